@@ -1,0 +1,107 @@
+# ntile — one Makefile for the library, the tools and the tests.
+#
+#   make                 library (static + shared) and the ntile CLI, in build/
+#   make test            build and run every test
+#   make asan            the whole test suite under AddressSanitizer + UBSan
+#   make run             the quick-start demonstration
+#   make NT_DOUBLE=1 …   everything with double as the scalar type
+#   make CC=clang OPT=-O3 …  any compiler / optimisation level
+#
+# Replays must be bit-identical across optimisation levels and compilers, so the
+# floating-point flags are fixed: -ffp-contract=off always, never -ffast-math.
+
+CC ?= cc
+OPT ?= -O2
+NT_DOUBLE ?= 0
+BUILD ?= build
+SAN ?=
+CI ?=
+
+WARN := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
+ifeq ($(CI),true)
+WARN += -Werror
+endif
+DEFS :=
+ifneq ($(NT_DOUBLE),0)
+DEFS += -DNT_DOUBLE
+endif
+CFLAGS_ALL := -std=c11 $(OPT) $(SAN) $(WARN) -ffp-contract=off -fPIC -Iinclude $(DEFS) $(CFLAGS)
+LDFLAGS_ALL := $(SAN) $(LDFLAGS)
+LIBS := -lm
+
+# Objects live in a directory per configuration; linked artefacts are rebuilt
+# whenever the configuration changes (build/.config holds the last one).
+CONFIG := $(CC) $(OPT) $(SAN) NT_DOUBLE=$(NT_DOUBLE) CI=$(CI) $(CFLAGS)
+CONFIG_ID := $(shell printf '%s' '$(CONFIG)' | cksum | cut -d' ' -f1)
+OBJ := $(BUILD)/obj/$(CONFIG_ID)
+STAMP := $(BUILD)/.config
+$(shell mkdir -p $(BUILD); if [ "$$(cat $(STAMP) 2>/dev/null)" != '$(CONFIG)' ]; then printf '%s\n' '$(CONFIG)' > $(STAMP); fi)
+
+SOVERSION := 0
+SOFULL := 0.1.0
+
+LIB_SRC := $(wildcard src/*.c)
+LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
+CLI_SRC := $(wildcard tools/ntile/*.c)
+CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
+TEST_SRC := $(wildcard tests/test_*.c)
+TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
+TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
+
+.PHONY: all lib cli test asan run clean deps-cc deps-test
+.DEFAULT_GOAL := all
+
+all: lib cli
+lib: $(BUILD)/libntile.a $(BUILD)/libntile.so
+cli: $(BUILD)/ntile
+
+deps-cc:
+	@tools/deps.sh cc
+deps-test:
+	@tools/deps.sh cc cmocka
+
+$(OBJ)/%.o: %.c | deps-cc
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
+
+$(BUILD)/libntile.a: $(LIB_OBJ) $(STAMP)
+	@rm -f $@
+	ar rcs $@ $(LIB_OBJ)
+
+$(BUILD)/libntile.so.$(SOFULL): $(LIB_OBJ) $(STAMP)
+	$(CC) -shared -Wl,-soname,libntile.so.$(SOVERSION) $(LDFLAGS_ALL) -o $@ $(LIB_OBJ) $(LIBS)
+
+$(BUILD)/libntile.so: $(BUILD)/libntile.so.$(SOFULL)
+	ln -sf libntile.so.$(SOFULL) $(BUILD)/libntile.so.$(SOVERSION)
+	ln -sf libntile.so.$(SOFULL) $@
+
+$(BUILD)/ntile: $(CLI_OBJ) $(BUILD)/libntile.a
+	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(BUILD)/libntile.a $(LIBS)
+
+# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers.
+$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(BUILD)/libntile.a | deps-test
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(BUILD)/libntile.a -lcmocka $(LIBS)
+
+$(OBJ)/tests/%.o: tests/%.c | deps-test
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Isrc -MMD -MP -c $< -o $@
+
+test: deps-test $(TEST_BIN) $(BUILD)/ntile
+	@fail=0; for t in $(TEST_BIN); do \
+	  echo "== $$t"; NTILE=$(BUILD)/ntile $$t || fail=1; \
+	done; \
+	if [ $$fail -ne 0 ]; then echo "make test: FAILED"; exit 1; fi; echo "make test: all passed"
+
+asan:
+	@$(MAKE) --no-print-directory BUILD=build/asan OPT="-O1 -g" \
+	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" test
+
+run: $(BUILD)/ntile
+	$(BUILD)/ntile query levels/demo.query
+
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,445 @@
+/* The tile map: cells, N's edge states, and resolution (freeing an object from
+ * every tile it overlaps by the shortest way out of their union). */
+#include <string.h>
+#include "core.h"
+
+nt_map_def nt_default_map_def(void)
+{
+    nt_map_def d;
+    d.width = 31;
+    d.height = 23;
+    d.cell_size = 24;
+    return d;
+}
+
+static const int side_dx[4] = {-1, 1, 0, 0};
+static const int side_dy[4] = {0, 0, -1, 1};
+static const int side_opposite[4] = {NT_SIDE_RIGHT, NT_SIDE_LEFT, NT_SIDE_BOTTOM, NT_SIDE_TOP};
+
+/* How tile `t` meets side `s`: 0 = not at all, 1 = partly (interval or point), 2 = whole. */
+static int cover_kind(int t, int s)
+{
+    const nt_tile_info *info = &nt__tiles[t];
+    nt_real lo = info->cover_lo[s], hi = info->cover_hi[s];
+    if (lo > hi) return 0;
+    return (lo <= 0 && hi >= 1) ? 2 : 1;
+}
+
+/* Cell data for (x, y) computed from the tiles around it. */
+static nt__cell compute_cell(const nt_map *map, int x, int y)
+{
+    nt__cell c;
+    c.tile = (uint8_t)nt__map_tile(map, x, y);
+    c.edges = 0;
+    c.seams = 0;
+    c.walls = 0;
+    for (int s = 0; s < 4; s++) {
+        int nb = nt__map_tile(map, x + side_dx[s], y + side_dy[s]);
+        int o = side_opposite[s];
+        int mine = cover_kind(c.tile, s), theirs = cover_kind(nb, o);
+        nt_edge e;
+        if ((mine == 2 && theirs == 2) || (mine == 0 && theirs == 0)) e = NT_EDGE_OFF;
+        else if (mine == 2 || theirs == 2) e = NT_EDGE_SOLID;
+        else e = NT_EDGE_INTERESTING;
+        c.edges |= (uint8_t)(e << (2 * s));
+        if (theirs == 2) c.walls |= (uint8_t)(1u << s);
+        /* A face is a seam when the neighbour's solid covers all of it. */
+        const nt_tile_info *a = &nt__tiles[c.tile], *b = &nt__tiles[nb];
+        if (mine && a->cover_lo[s] < a->cover_hi[s] && theirs && b->cover_lo[o] <= a->cover_lo[s] &&
+            b->cover_hi[o] >= a->cover_hi[s])
+            c.seams |= (uint8_t)(1u << s);
+    }
+    return c;
+}
+
+nt__cell nt__map_cell(const nt_map *map, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return compute_cell(map, x, y);
+    return map->cells[(size_t)y * (size_t)map->w + (size_t)x];
+}
+
+nt_status nt_map_create(const nt_map_def *def, nt_map **out)
+{
+    if (!out) return NT_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!def) return NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(def->cell_size)) return NT_ERR_NON_FINITE;
+    if (def->cell_size <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (def->width < 1 || def->height < 1 || def->width > NT_MAP_MAX_SIDE || def->height > NT_MAP_MAX_SIDE)
+        return NT_ERR_OUT_OF_RANGE;
+    nt_map *m = (nt_map *)nt__alloc(sizeof *m);
+    if (!m) return NT_ERR_OUT_OF_MEMORY;
+    size_t n = (size_t)def->width * (size_t)def->height;
+    m->cells = (nt__cell *)nt__alloc(n * sizeof *m->cells);
+    if (!m->cells) {
+        nt__free(m);
+        return NT_ERR_OUT_OF_MEMORY;
+    }
+    m->w = def->width;
+    m->h = def->height;
+    m->cell = def->cell_size;
+    m->inv_cell = 1 / def->cell_size;
+    memset(m->cells, 0, n * sizeof *m->cells);
+    for (int y = 0; y < m->h; y++)
+        for (int x = 0; x < m->w; x++)
+            if (x == 0 || y == 0 || x == m->w - 1 || y == m->h - 1) /* the border's edges */
+                m->cells[(size_t)y * (size_t)m->w + (size_t)x] = compute_cell(m, x, y);
+    *out = m;
+    return NT_OK;
+}
+
+void nt_map_destroy(nt_map *map)
+{
+    if (!map) return;
+    nt__free(map->cells);
+    nt__free(map);
+}
+
+int nt_map_width(const nt_map *map) { return map ? map->w : 0; }
+int nt_map_height(const nt_map *map) { return map ? map->h : 0; }
+nt_real nt_map_cell_size(const nt_map *map) { return map ? map->cell : 0; }
+
+static void refresh(nt_map *map, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return;
+    map->cells[(size_t)y * (size_t)map->w + (size_t)x] = compute_cell(map, x, y);
+}
+
+nt_status nt_map_set_tile(nt_map *map, int x, int y, int tile)
+{
+    if (!map) return NT_ERR_INVALID_ARGUMENT;
+    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return NT_ERR_OUT_OF_RANGE;
+    if (tile < 0 || tile >= NT_TILE_COUNT) return NT_ERR_OUT_OF_RANGE;
+    map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile = (uint8_t)tile;
+    refresh(map, x, y);
+    for (int s = 0; s < 4; s++) refresh(map, x + side_dx[s], y + side_dy[s]);
+    return NT_OK;
+}
+
+nt_status nt_map_set_tiles(nt_map *map, const uint8_t *tiles, size_t count)
+{
+    if (!map || !tiles) return NT_ERR_INVALID_ARGUMENT;
+    size_t n = (size_t)map->w * (size_t)map->h;
+    if (count != n) return NT_ERR_INVALID_ARGUMENT;
+    for (size_t i = 0; i < n; i++)
+        if (tiles[i] >= NT_TILE_COUNT) return NT_ERR_OUT_OF_RANGE;
+    for (size_t i = 0; i < n; i++) map->cells[i].tile = tiles[i];
+    for (int y = 0; y < map->h; y++)
+        for (int x = 0; x < map->w; x++) refresh(map, x, y);
+    return NT_OK;
+}
+
+int nt_map_get_tile(const nt_map *map, int x, int y)
+{
+    if (!map) return NT_TILE_FULL;
+    return nt__map_tile(map, x, y);
+}
+
+nt_edge nt_map_get_edge(const nt_map *map, int x, int y, nt_side side)
+{
+    if (!map || x < 0 || y < 0 || x >= map->w || y >= map->h || (unsigned)side > 3u) return NT_EDGE_OFF;
+    return (nt_edge)((map->cells[(size_t)y * (size_t)map->w + (size_t)x].edges >> (2 * side)) & 3);
+}
+
+/* ------------------------------------------------------------------------------
+ * Resolution.
+ *
+ * Work in cell units. The object overlaps at most 2 x 2 cells. Each overlapped
+ * tile gives its exact minimum translation with the seam faces masked (a push
+ * through a face that the neighbour covers only enters the neighbour). The answer
+ * is the shortest candidate that frees the object from every tile; candidates are
+ * the single-tile pushes and, for corners, the intersection of two tiles' push
+ * planes. What no candidate frees (rare: deep or tight spots) is freed by
+ * repeated projection and, last, by a search over directions.
+ * ------------------------------------------------------------------------------ */
+
+typedef struct cand {
+    nt_real nx, ny, depth; /* push = n * depth, cell units */
+    int cx, cy;            /* its cell */
+} cand;
+
+#define MAX_CANDS 4
+
+/* Per-tile test in cell units; local coordinates keep float precision. */
+static int tile_test(int tile, nt_real lx, nt_real ly, nt_shape shape, nt_vec2 h, unsigned mask, nt_mtv *m)
+{
+    nt_vec2 c = nt_v2(lx, ly);
+    return shape.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(tile, c, h.x, mask, m)
+                                         : nt__collide_tile_aabb_m(tile, c, h, mask, m);
+}
+
+/* Cell range the object's interior can touch. */
+static inline void cell_range(nt_vec2 p, nt_vec2 h, int *x0, int *y0, int *x1, int *y1)
+{
+    *x0 = nt__floor_int(p.x - h.x);
+    *x1 = nt__floor_int(p.x + h.x);
+    *y0 = nt__floor_int(p.y - h.y);
+    *y1 = nt__floor_int(p.y + h.y);
+}
+
+/* Largest single-tile depth at p (cell units), no masks: 0 when free. */
+static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    nt_real worst = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > worst)
+                worst = m.depth;
+        }
+    return worst;
+}
+
+/* Gather the masked per-tile candidates at p. Returns the number of overlapped
+ * tiles; *nc receives the number of candidates. */
+static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsigned use_masks, cand *cs, int *nc,
+                  int *all_convex)
+{
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    int overlapped = 0;
+    *nc = 0;
+    *all_convex = 1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            unsigned mask = use_masks ? nt__map_cell(map, x, y).seams : 0u;
+            nt_mtv m;
+            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
+            if (r == NT__SEPARATE) continue;
+            overlapped++;
+            if (nt__tiles[t].cls == NT_CLASS_CONCAVE) *all_convex = 0;
+            if (r == NT__PUSH && *nc < MAX_CANDS) {
+                cand *c = &cs[(*nc)++];
+                c->nx = m.normal.x;
+                c->ny = m.normal.y;
+                c->depth = m.depth;
+                c->cx = x;
+                c->cy = y;
+            }
+        }
+    return overlapped;
+}
+
+/* Residual overlap accepted as "free": rounding of positions, not geometry. */
+static inline nt_real free_tolerance(nt_vec2 p)
+{
+    nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
+    return R(2e-5) + R(8) * NT_REAL_EPS * mag;
+}
+
+static int is_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    return depth_at(map, p, shape, h) <= free_tolerance(p);
+}
+
+/* The displacement d with d.n1 = depth1 and d.n2 = depth2 (the corner of two
+ * push planes). Returns 0 when the planes are (nearly) parallel. */
+static int corner(const cand *a, const cand *b, nt_vec2 *d)
+{
+    nt_real det = a->nx * b->ny - a->ny * b->nx;
+    if (nt__fabs(det) < R(1e-3)) return 0;
+    d->x = (a->depth * b->ny - b->depth * a->ny) / det;
+    d->y = (b->depth * a->nx - a->depth * b->nx) / det;
+    return 1;
+}
+
+static void set_single(nt_resolution *out, const cand *c)
+{
+    out->push = nt_v2(c->nx * c->depth, c->ny * c->depth);
+    out->contact_count = 1;
+    out->contacts[0].normal = nt_v2(c->nx, c->ny);
+    out->contacts[0].depth = c->depth;
+    out->contacts[0].cell_x = c->cx;
+    out->contacts[0].cell_y = c->cy;
+}
+
+static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b)
+{
+    out->push = d;
+    out->contact_count = 2;
+    const cand *cc[2] = {a, b};
+    for (int i = 0; i < 2; i++) {
+        out->contacts[i].normal = nt_v2(cc[i]->nx, cc[i]->ny);
+        out->contacts[i].depth = cc[i]->depth;
+        out->contacts[i].cell_x = cc[i]->cx;
+        out->contacts[i].cell_y = cc[i]->cy;
+    }
+}
+
+/* Best push from the candidates at p: shortest single or corner that frees the
+ * object. Returns 1 and fills out (cell units) on success. */
+static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc,
+                          int overlapped, int all_convex, nt_resolution *out)
+{
+    /* Fast certificate: every overlapped tile pushes the same way, the deepest
+     * push clears them all (convex regions stay cleared further along their
+     * normal), and it brings no new cell into range. */
+    if (nc == overlapped && all_convex && nc > 0) {
+        int deepest = 0, same = 1;
+        for (int i = 1; i < nc; i++) {
+            if (cs[i].nx != cs[0].nx || cs[i].ny != cs[0].ny) same = 0;
+            if (cs[i].depth > cs[deepest].depth) deepest = i;
+        }
+        if (same) {
+            nt_vec2 q = nt_v2(p.x + cs[deepest].nx * cs[deepest].depth, p.y + cs[deepest].ny * cs[deepest].depth);
+            int a0, b0, a1, b1, c0, d0, c1, d1;
+            cell_range(p, h, &a0, &b0, &a1, &b1);
+            cell_range(q, h, &c0, &d0, &c1, &d1);
+            if (c0 >= a0 && d0 >= b0 && c1 <= a1 && d1 <= b1) {
+                set_single(out, &cs[deepest]);
+                return 1;
+            }
+        }
+    }
+    /* Singles, shortest first. */
+    int order[MAX_CANDS];
+    for (int i = 0; i < nc; i++) order[i] = i;
+    for (int i = 1; i < nc; i++)
+        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
+            int t = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = t;
+        }
+    nt_real best_len = NT_REAL_MAX;
+    int found = 0;
+    for (int k = 0; k < nc; k++) {
+        const cand *c = &cs[order[k]];
+        nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
+        if (is_free(map, q, shape, h)) {
+            set_single(out, c);
+            best_len = c->depth;
+            found = 1;
+            break;
+        }
+    }
+    /* Corners: may be shorter than a freeing single (which can be a long way round). */
+    for (int i = 0; i < nc; i++)
+        for (int j = i + 1; j < nc; j++) {
+            nt_vec2 d;
+            if (!corner(&cs[i], &cs[j], &d)) continue;
+            nt_real len = nt__len(d);
+            if (len >= best_len || len > R(1.5)) continue;
+            if (is_free(map, nt__add(p, d), shape, h)) {
+                set_pair(out, d, &cs[i], &cs[j]);
+                best_len = len;
+                found = 1;
+            }
+        }
+    return found;
+}
+
+/* Last resort: the nearest free point found along 64 directions. */
+static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
+{
+    enum { DIRS = 64, STEPS = 48 };
+    const nt_real reach = R(1.5);
+    nt_real best = NT_REAL_MAX;
+    int found = 0;
+    for (int k = 0; k < DIRS; k++) {
+        nt_real a = (nt_real)k * R(6.283185307179586 / DIRS);
+        nt_real ux = (nt_real)cos((double)a), uy = (nt_real)sin((double)a);
+        nt_real lo = 0, hi = -1;
+        for (int s = 1; s <= STEPS; s++) {
+            nt_real t = reach * (nt_real)s / STEPS;
+            if (t >= best) break;
+            if (is_free(map, nt_v2(p.x + ux * t, p.y + uy * t), shape, h)) {
+                hi = t;
+                break;
+            }
+            lo = t;
+        }
+        if (hi < 0) continue;
+        for (int it = 0; it < 24; it++) {
+            nt_real mid = R(0.5) * (lo + hi);
+            if (is_free(map, nt_v2(p.x + ux * mid, p.y + uy * mid), shape, h)) hi = mid;
+            else lo = mid;
+        }
+        if (hi < best) {
+            best = hi;
+            *d = nt_v2(ux * hi, uy * hi);
+            found = 1;
+        }
+    }
+    return found;
+}
+
+bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
+{
+    nt_resolution res;
+    memset(&res, 0, sizeof res);
+    if (out) *out = res;
+    NT_ASSERT(map != NULL);
+    if (!map) return false;
+    NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(0.5) &&
+              shape.half.y <= map->cell * R(0.5));
+    nt_real ic = map->inv_cell, cell = map->cell;
+    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
+    nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
+
+    cand cs[MAX_CANDS];
+    int nc, all_convex;
+    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex);
+    if (overlapped == 0) return false;
+
+    if (!best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, &res)) {
+        /* Repeated projection: leave the deepest tile, then look again. */
+        nt_vec2 q = p;
+        int done = 0;
+        for (int it = 0; it < 8; it++) {
+            int n2 = gather(map, q, shape, h, 1u, cs, &nc, &all_convex);
+            if (n2 == 0) {
+                done = 1;
+                break;
+            }
+            if (nc == 0) n2 = gather(map, q, shape, h, 0u, cs, &nc, &all_convex);
+            if (nc == 0) break;
+            nt_resolution step;
+            if (best_candidate(map, q, shape, h, cs, nc, n2, all_convex, &step)) {
+                q = nt__add(q, step.push);
+                res.contact_count = step.contact_count;
+                res.contacts[0] = step.contacts[0];
+                res.contacts[1] = step.contacts[1];
+                done = 1;
+                break;
+            }
+            int deepest = 0;
+            for (int i = 1; i < nc; i++)
+                if (cs[i].depth > cs[deepest].depth) deepest = i;
+            q.x += cs[deepest].nx * cs[deepest].depth;
+            q.y += cs[deepest].ny * cs[deepest].depth;
+            set_single(&res, &cs[deepest]);
+        }
+        nt_vec2 d = nt__sub(q, p);
+        if (!done) search_directions(map, p, shape, h, &d);
+        res.push = d;
+        if (res.contact_count == 0) {
+            nt_real len = nt__len(d);
+            res.contact_count = 1;
+            res.contacts[0].normal = len > 0 ? nt__scale(d, 1 / len) : nt_v2(0, -1);
+            res.contacts[0].depth = len;
+            res.contacts[0].cell_x = nt__floor_int(p.x);
+            res.contacts[0].cell_y = nt__floor_int(p.y);
+        }
+    }
+    /* Back to world units. */
+    res.push = nt__scale(res.push, cell);
+    for (int i = 0; i < res.contact_count; i++) res.contacts[i].depth *= cell;
+    if (out) *out = res;
+    return true;
+}
+
+nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape)
+{
+    if (!map) return 0;
+    nt_real ic = map->inv_cell;
+    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
+    if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;
+    return depth_at(map, p, shape, nt_v2(shape.half.x * ic, shape.half.y * ic)) * map->cell;
+}

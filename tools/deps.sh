@@ -1,0 +1,33 @@
+#!/bin/sh
+# Make sure the Debian packages a target needs are installed.
+# Usage: tools/deps.sh FEATURE...   (features: cc, cmocka, clang, sdl2, xvfb, valgrind)
+# Installs what is missing with apt-get when run as root; otherwise prints the exact
+# command to run and exits 1.
+set -u
+missing=""
+have_header() { # $1 = header, $2 = extra flags
+    printf '#include <stdarg.h>\n#include <stddef.h>\n#include <setjmp.h>\n#include <stdint.h>\n#include <%s>\nint main(void){return 0;}\n' "$1" \
+        | ${CC:-cc} -x c - -o /dev/null $2 >/dev/null 2>&1
+}
+for f in "$@"; do
+    case "$f" in
+    cc) command -v "${CC:-cc}" >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || missing="$missing build-essential" ;;
+    cmocka) have_header cmocka.h -lcmocka || missing="$missing libcmocka-dev" ;;
+    clang) command -v clang >/dev/null 2>&1 || missing="$missing clang" ;;
+    sdl2) command -v sdl2-config >/dev/null 2>&1 || missing="$missing libsdl2-dev" ;;
+    xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb" ;;
+    valgrind) command -v valgrind >/dev/null 2>&1 || missing="$missing valgrind" ;;
+    *) echo "tools/deps.sh: unknown feature '$f'" >&2; exit 2 ;;
+    esac
+done
+[ -z "$missing" ] && exit 0
+if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    echo "ntile: installing missing Debian packages:$missing"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq && apt-get install -y -qq $missing >/dev/null || {
+        echo "ntile: apt-get install failed for:$missing" >&2; exit 1; }
+    exit 0
+fi
+echo "ntile: missing Debian packages:$missing" >&2
+echo "ntile: install them with:  sudo apt-get install -y$missing" >&2
+exit 1
