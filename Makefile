@@ -89,13 +89,14 @@ $(OBJ)/tests/%.o: tests/%.c | deps-test
 	$(CC) $(CFLAGS_ALL) -Isrc -MMD -MP -c $< -o $@
 
 test: deps-test $(TEST_BIN) $(BUILD)/ntile
-	@fail=0; for t in $(TEST_BIN); do \
-	  echo "== $$t"; NTILE=$(BUILD)/ntile $$t || fail=1; \
+	@pass=0; fail=0; for t in $(TEST_BIN); do \
+	  echo "== $$t"; if NTILE=$(BUILD)/ntile $$t; then pass=$$((pass+1)); else fail=$$((fail+1)); echo "FAILED: $$t"; fi; \
 	done; \
-	if [ $$fail -ne 0 ]; then echo "make test: FAILED"; exit 1; fi; echo "make test: all passed"
+	echo "test suites: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
+BUILD_ASAN ?= build/asan
 asan:
-	@$(MAKE) --no-print-directory BUILD=build/asan OPT="-O1 -g" \
+	@$(MAKE) --no-print-directory BUILD=$(BUILD_ASAN) OPT="-O1 -g" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" test
 
 run: $(BUILD)/ntile

@@ -64,10 +64,11 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
     best b;
     best_init(&b);
     if (g->has_slope) {
-        nt_real nx = g->slope[0], ny = g->slope[1];
-        nt_real ds = g->slope[2] - (nx * c.x + ny * c.y) + h.x * nt__fabs(nx) + h.y * nt__fabs(ny);
+        /* Decide with the integer normal (exact at touching), measure with the unit one. */
+        nt_real ux = g->slope[0], uy = g->slope[1];
+        nt_real ds = g->slope[2] - (ux * c.x + uy * c.y) + h.x * nt__fabs(ux) + h.y * nt__fabs(uy);
         if (ds <= 0) return NT__SEPARATE;
-        consider(&b, ds, nx, ny);
+        consider(&b, ds * g->slope[3], g->slope[4], g->slope[5]);
     }
     if (!(mask & SIDE_BIT(NT_SIDE_TOP))) consider(&b, du, 0, -1);
     if (!(mask & SIDE_BIT(NT_SIDE_BOTTOM))) consider(&b, dd, 0, 1);
@@ -82,11 +83,11 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
 static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     const nt__tile_geom *g = &nt__geom[tile];
-    nt_real s[4];
+    nt_real s[4]; /* signed distance to each edge's line; the sign is exact */
     nt_real smax = -NT_REAL_MAX;
     for (int i = 0; i < g->edge_count; i++) {
         const nt__edge *e = &g->edges[i];
-        s[i] = e->nx * c.x + e->ny * c.y - e->d;
+        s[i] = (e->ux * c.x + e->uy * c.y - e->ud) * e->inv;
         if (s[i] > smax) smax = s[i];
     }
     if (smax >= r) return NT__SEPARATE;
@@ -172,8 +173,9 @@ static int aabb_convex(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *ou
     best_init(&b);
     nt_real vx = k.x - h.x, vy = k.y - (1 - h.y);
     if (vx > 0 && vy < 0) {
-        nt_real dist = nt__sqrt(vx * vx + vy * vy);
-        if (dist >= 1) return NT__SEPARATE;
+        nt_real d2 = vx * vx + vy * vy;
+        if (d2 >= 1) return NT__SEPARATE;
+        nt_real dist = nt__sqrt(d2);
         consider(&b, 1 - dist, vx / dist, vy / dist);
     }
     consider(&b, du, 0, -1);
@@ -194,10 +196,11 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
     best_init(&b);
     if (x >= 0 && y <= 1) {
         nt_real vx = x, vy = y - 1;
-        nt_real dist = nt__sqrt(vx * vx + vy * vy);
-        if (dist <= 1) {
+        nt_real d2 = vx * vx + vy * vy;
+        nt_real dist = nt__sqrt(d2);
+        if (d2 <= 1) {
             /* Centre in the closed quarter disc. */
-            int interior = x > 0 && y < 1 && dist < 1;
+            int interior = x > 0 && y < 1 && d2 < 1;
             if (!interior && r == 0) return NT__SEPARATE;
             if (dist > 0) consider(&b, 1 - dist + r, vx / dist, vy / dist);
             if (!k.mbottom) consider(&b, 1 - y + r, 0, 1);
@@ -254,8 +257,9 @@ static int aabb_concave(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
     nt_real du = py;             /* move -y until the bottom clears y = 0 */
     if (dr <= 0 || dl <= 0 || dd <= 0 || du <= 0) return NT__SEPARATE;
     nt_real ox = 1 - px, oy = 0 - py;
-    nt_real dist = nt__sqrt(ox * ox + oy * oy);
-    if (dist <= 1) return NT__SEPARATE;
+    nt_real d2 = ox * ox + oy * oy;
+    if (d2 <= 1) return NT__SEPARATE;
+    nt_real dist = nt__sqrt(d2);
     best b;
     best_init(&b);
     consider(&b, dist - 1, ox / dist, oy / dist);
@@ -291,11 +295,12 @@ static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
     canon k = to_canon(tile, c, mask);
     nt_real x = k.x, y = k.y;
     nt_real ox = x - 1, oy = y;
-    nt_real dist_o = nt__sqrt(ox * ox + oy * oy);
+    nt_real d2o = ox * ox + oy * oy;
+    nt_real dist_o = nt__sqrt(d2o);
     /* Exact overlap test: the distance from c to T. */
     int in_cell = x >= 0 && x <= 1 && y >= 0 && y <= 1;
-    if (in_cell && dist_o >= 1) {
-        int interior = x > 0 && x < 1 && y > 0 && y < 1 && dist_o > 1;
+    if (in_cell && d2o >= 1) {
+        int interior = x > 0 && x < 1 && y > 0 && y < 1 && d2o > 1;
         if (!interior && r == 0) return NT__SEPARATE;
     } else {
         nt_real ly = nt__clamp(y, 0, 1), bx = nt__clamp(x, 0, 1);
@@ -399,36 +404,43 @@ bool nt_collide_circles(nt_vec2 ca, nt_real ra, nt_vec2 cb, nt_real rb, nt_mtv *
     return true;
 }
 
-bool nt_collide_aabb_circle(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_real rb, nt_mtv *out)
+/* Minimum translation of a circle (centre cc, radius r) out of a box (centre cb,
+ * half-size hb). Coincident centres push the circle along -y. */
+static bool circle_out_of_box(nt_vec2 cc, nt_real r, nt_vec2 cb, nt_vec2 hb, nt_mtv *m)
 {
-    /* Solve for the circle leaving the box, then turn it around. */
-    nt_real dx = cb.x - ca.x, dy = cb.y - ca.y;
-    nt_real qx = nt__clamp(dx, -ha.x, ha.x), qy = nt__clamp(dy, -ha.y, ha.y);
+    nt_real dx = cc.x - cb.x, dy = cc.y - cb.y;
+    nt_real qx = nt__clamp(dx, -hb.x, hb.x), qy = nt__clamp(dy, -hb.y, hb.y);
     nt_real vx = dx - qx, vy = dy - qy;
     nt_real d2 = vx * vx + vy * vy;
-    nt_real nx, ny, depth;
     if (d2 > 0) {
         nt_real d = nt__sqrt(d2);
-        if (d >= rb) return false;
-        nx = vx / d;
-        ny = vy / d;
-        depth = rb - d;
-    } else {
-        nt_real ox = ha.x - nt__fabs(dx) + rb, oy = ha.y - nt__fabs(dy) + rb;
-        if (ox <= 0 || oy <= 0) return false;
-        if (oy <= ox || (dx == 0 && dy == 0)) {
-            nx = 0;
-            ny = dy < 0 ? R(-1) : R(1);
-            depth = oy;
-        } else {
-            nx = dx < 0 ? R(-1) : R(1);
-            ny = 0;
-            depth = ox;
-        }
+        if (d >= r) return false;
+        m->normal = nt_v2(vx / d, vy / d);
+        m->depth = r - d;
+        return true;
     }
+    /* Centre inside the closed box: leave through the nearest face. */
+    nt_real ox = hb.x - nt__fabs(dx) + r, oy = hb.y - nt__fabs(dy) + r;
+    if (ox <= 0 || oy <= 0) return false;
+    if (oy <= ox || (dx == 0 && dy == 0)) {
+        m->normal = nt_v2(0, dy > 0 ? R(1) : R(-1));
+        m->depth = oy;
+    } else {
+        m->normal = nt_v2(dx < 0 ? R(-1) : R(1), 0);
+        m->depth = ox;
+    }
+    return true;
+}
+
+bool nt_collide_aabb_circle(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_real rb, nt_mtv *out)
+{
+    nt_mtv m;
+    if (!circle_out_of_box(cb, rb, ca, ha, &m)) return false;
     if (out) {
-        out->normal = nt_v2(-nx, -ny);
-        out->depth = depth;
+        /* The box leaves the opposite way; coincident centres still push it along -y. */
+        if (ca.x == cb.x && ca.y == cb.y) out->normal = nt_v2(0, -1);
+        else out->normal = nt_v2(-m.normal.x, -m.normal.y);
+        out->depth = m.depth;
     }
     return true;
 }
@@ -440,10 +452,7 @@ bool nt_collide_shapes(nt_vec2 pa, nt_shape a, nt_vec2 pb, nt_shape b, nt_mtv *o
         return nt_collide_circles(pa, a.half.x, pb, b.half.x, out);
     if (a.type == NT_SHAPE_AABB) return nt_collide_aabb_circle(pa, a.half, pb, b.half.x, out);
     nt_mtv m;
-    if (!nt_collide_aabb_circle(pb, b.half, pa, a.half.x, &m)) return false;
-    if (out) {
-        out->normal = nt_v2(-m.normal.x, -m.normal.y);
-        out->depth = m.depth;
-    }
+    if (!circle_out_of_box(pa, a.half.x, pb, b.half, &m)) return false;
+    if (out) *out = m;
     return true;
 }

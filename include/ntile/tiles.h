@@ -51,7 +51,7 @@ typedef struct nt_tile_info {
     const char *name;        ///< N's name, e.g. "45DEGpn"
     nt_tile_class cls;       ///< shape class
     int8_t signx, signy;     ///< signs of the surface normal (0 for EMPTY, FULL, HALF)
-    nt_vec2 normal;          ///< unit outward normal of the sloped/flat surface (0,0 for EMPTY, FULL, round tiles)
+    nt_vec2 normal;          ///< unit outward normal of the surface; round tiles: at the middle of the arc; (0,0) for EMPTY and FULL
     int vertex_count;        ///< polygon corners (POLYGON), or the straight corners of a round tile
     nt_vec2 vertices[4];     ///< counter-clockwise on screen (y down): edge a->b has outward normal (-(b.y-a.y), b.x-a.x)
     nt_vec2 arc_center;      ///< round tiles: centre of the radius-1 arc (a cell corner)

@@ -1,0 +1,430 @@
+/* Tile map: edge states on hand-built maps, resolution on seams and slope joins,
+ * and resolution against a brute-force minimum translation out of the union of
+ * tiles (tests/ref.c). */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "ntile/ntile.h"
+#include "ref.h"
+
+#define R(x) ((nt_real)(x))
+
+enum { E_OFF = NT_EDGE_OFF, E_SOL = NT_EDGE_SOLID, E_INT = NT_EDGE_INTERESTING };
+
+/* Build a map from rows of characters: '.' EMPTY, '#' FULL, digits/letters via a legend. */
+static int tile_of(char c)
+{
+    switch (c) {
+    case '.': return NT_TILE_EMPTY;
+    case '#': return NT_TILE_FULL;
+    case '\\': return NT_TILE_45DEGpn; /* solid lower-left, surface going down to the right */
+    case '/': return NT_TILE_45DEGnn;  /* solid lower-right */
+    case 'd': return NT_TILE_HALFd;
+    case 'u': return NT_TILE_HALFu;
+    case 'l': return NT_TILE_HALFl;
+    case 'r': return NT_TILE_HALFr;
+    case 'c': return NT_TILE_CONCAVEpn;
+    case 'o': return NT_TILE_CONVEXpn;
+    default: return -1;
+    }
+}
+
+static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
+{
+    nt_map_def d = nt_default_map_def();
+    d.width = w;
+    d.height = h;
+    d.cell_size = cell;
+    nt_map *m = NULL;
+    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            int t = tile_of(rows[y][x]);
+            assert_true(t >= 0);
+            assert_int_equal(nt_map_set_tile(m, x, y, t), NT_OK);
+        }
+    return m;
+}
+
+static void expect_edges(const nt_map *m, int x, int y, int l, int r, int t, int b)
+{
+    int got[4] = {nt_map_get_edge(m, x, y, NT_SIDE_LEFT), nt_map_get_edge(m, x, y, NT_SIDE_RIGHT),
+                  nt_map_get_edge(m, x, y, NT_SIDE_TOP), nt_map_get_edge(m, x, y, NT_SIDE_BOTTOM)};
+    int want[4] = {l, r, t, b};
+    for (int s = 0; s < 4; s++) {
+        if (got[s] != want[s]) {
+            print_error("cell (%d,%d) side %d: edge %d, expected %d\n", x, y, s, got[s], want[s]);
+            fail();
+        }
+    }
+}
+
+static void test_create_errors(void **state)
+{
+    (void)state;
+    nt_map *m = (nt_map *)1;
+    nt_map_def d = nt_default_map_def();
+    assert_int_equal(d.width, 31);
+    assert_int_equal(d.height, 23);
+    d.width = 0;
+    assert_int_equal(nt_map_create(&d, &m), NT_ERR_OUT_OF_RANGE);
+    assert_null(m);
+    d = nt_default_map_def();
+    d.height = NT_MAP_MAX_SIDE + 1;
+    assert_int_equal(nt_map_create(&d, &m), NT_ERR_OUT_OF_RANGE);
+    d = nt_default_map_def();
+    d.cell_size = 0;
+    assert_int_equal(nt_map_create(&d, &m), NT_ERR_INVALID_ARGUMENT);
+    d.cell_size = (nt_real)NAN;
+    assert_int_equal(nt_map_create(&d, &m), NT_ERR_NON_FINITE);
+    d.cell_size = (nt_real)INFINITY;
+    assert_int_equal(nt_map_create(&d, &m), NT_ERR_NON_FINITE);
+    assert_int_equal(nt_map_create(NULL, &m), NT_ERR_INVALID_ARGUMENT);
+
+    d = nt_default_map_def();
+    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    assert_int_equal(nt_map_width(m), 31);
+    assert_int_equal(nt_map_height(m), 23);
+    assert_true(nt_map_cell_size(m) == 24);
+    /* Bad edits leave the map unchanged. */
+    assert_int_equal(nt_map_set_tile(m, 3, 3, NT_TILE_FULL), NT_OK);
+    assert_int_equal(nt_map_set_tile(m, 3, 3, 34), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_map_set_tile(m, 3, 3, -1), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_map_set_tile(m, -1, 3, NT_TILE_FULL), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_map_set_tile(m, 31, 3, NT_TILE_FULL), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_map_get_tile(m, 3, 3), NT_TILE_FULL);
+    uint8_t *tiles = calloc(31 * 23, 1);
+    tiles[5] = 40;
+    assert_int_equal(nt_map_set_tiles(m, tiles, 31 * 23), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_map_set_tiles(m, tiles, 31 * 22), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_map_get_tile(m, 3, 3), NT_TILE_FULL);
+    free(tiles);
+    /* Outside the map is FULL border. */
+    assert_int_equal(nt_map_get_tile(m, -1, 0), NT_TILE_FULL);
+    assert_int_equal(nt_map_get_tile(m, 31, 22), NT_TILE_FULL);
+    assert_int_equal(nt_map_get_tile(m, 0, 23), NT_TILE_FULL);
+    nt_map_destroy(m);
+    nt_map_destroy(NULL);
+}
+
+static void test_edges_floor_and_wall(void **state)
+{
+    (void)state;
+    const char *rows[] = {
+        "....",
+        ".##.",
+        "####",
+    };
+    nt_map *m = make_map(4, 3, 1, rows);
+    /*                 L      R      T      B */
+    expect_edges(m, 1, 1, E_SOL, E_OFF, E_SOL, E_OFF); /* FULL, FULL to the right and below */
+    expect_edges(m, 2, 1, E_OFF, E_SOL, E_SOL, E_OFF);
+    expect_edges(m, 0, 1, E_SOL, E_SOL, E_OFF, E_SOL); /* empty: border left, FULL right and below */
+    expect_edges(m, 0, 0, E_SOL, E_OFF, E_SOL, E_OFF); /* border on two sides */
+    expect_edges(m, 1, 2, E_OFF, E_OFF, E_OFF, E_OFF); /* buried: every seam gone */
+    expect_edges(m, 0, 2, E_OFF, E_OFF, E_SOL, E_OFF);
+    expect_edges(m, 3, 1, E_SOL, E_SOL, E_OFF, E_SOL);
+    /* Digging a hole updates the cell and its four neighbours. */
+    assert_int_equal(nt_map_set_tile(m, 1, 2, NT_TILE_EMPTY), NT_OK);
+    expect_edges(m, 1, 2, E_SOL, E_SOL, E_SOL, E_SOL);
+    expect_edges(m, 0, 2, E_OFF, E_SOL, E_SOL, E_OFF);
+    expect_edges(m, 2, 2, E_SOL, E_OFF, E_OFF, E_OFF);
+    expect_edges(m, 1, 1, E_SOL, E_OFF, E_SOL, E_SOL);
+    nt_map_destroy(m);
+}
+
+static void test_edges_slopes_halves_round(void **state)
+{
+    (void)state;
+    const char *rows[] = {
+        ".....",
+        "\\..dd",
+        "###c#",
+        "#####",
+    };
+    nt_map *m = make_map(5, 4, 1, rows);
+    /* 45DEGpn: covers its left and bottom sides whole, touches top and right at a point. */
+    expect_edges(m, 0, 1, E_OFF, E_INT, E_INT, E_OFF);
+    expect_edges(m, 1, 1, E_INT, E_OFF, E_OFF, E_SOL);
+    expect_edges(m, 0, 0, E_SOL, E_OFF, E_SOL, E_INT);
+    /* HALFd beside HALFd: partial covers on both sides. HALFd over CONCAVEpn: the
+     * concave tile touches its top only at the cusp (0,0). */
+    expect_edges(m, 3, 1, E_INT, E_INT, E_OFF, E_SOL);
+    expect_edges(m, 4, 1, E_INT, E_SOL, E_OFF, E_OFF);
+    /* CONCAVEpn: whole left and bottom sides, point contacts top and right. */
+    expect_edges(m, 3, 2, E_OFF, E_SOL, E_SOL, E_OFF);
+    expect_edges(m, 2, 2, E_OFF, E_OFF, E_SOL, E_OFF);
+    nt_map_destroy(m);
+
+    const char *rows2[] = {
+        "o.",
+        "..",
+    };
+    m = make_map(2, 2, 1, rows2);
+    /* CONVEXpn: quarter disc around (0,1): whole left and bottom, points top and right. */
+    expect_edges(m, 0, 0, E_OFF, E_INT, E_SOL, E_SOL);
+    expect_edges(m, 1, 0, E_INT, E_SOL, E_SOL, E_OFF);
+    expect_edges(m, 0, 1, E_SOL, E_OFF, E_SOL, E_SOL);
+    nt_map_destroy(m);
+}
+
+/* Bulk set_tiles and cell-by-cell set_tile agree on every edge of a random map. */
+static void test_edges_bulk_matches_incremental(void **state)
+{
+    (void)state;
+    enum { W = 13, H = 9 };
+    uint64_t s = 0x1234567ULL;
+    uint8_t tiles[W * H];
+    for (int i = 0; i < W * H; i++) {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        int r = (int)((s >> 33) % 100);
+        tiles[i] = (uint8_t)(r < 45 ? 0 : (r < 60 ? 1 : (int)((s >> 40) % NT_TILE_COUNT)));
+    }
+    nt_map_def d = nt_default_map_def();
+    d.width = W;
+    d.height = H;
+    nt_map *a, *b;
+    assert_int_equal(nt_map_create(&d, &a), NT_OK);
+    assert_int_equal(nt_map_create(&d, &b), NT_OK);
+    assert_int_equal(nt_map_set_tiles(a, tiles, W * H), NT_OK);
+    /* Incremental in a scrambled order, with a detour through FULL for some cells. */
+    for (int k = 0; k < W * H; k++) {
+        int i = (k * 37) % (W * H);
+        if (k % 3 == 0) assert_int_equal(nt_map_set_tile(b, i % W, i / W, NT_TILE_FULL), NT_OK);
+        assert_int_equal(nt_map_set_tile(b, i % W, i / W, tiles[i]), NT_OK);
+    }
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            assert_int_equal(nt_map_get_tile(a, x, y), tiles[y * W + x]);
+            for (int side = 0; side < 4; side++)
+                assert_int_equal(nt_map_get_edge(a, x, y, (nt_side)side), nt_map_get_edge(b, x, y, (nt_side)side));
+        }
+    nt_map_destroy(a);
+    nt_map_destroy(b);
+}
+
+static void check_push(const nt_map *m, nt_vec2 p, nt_shape sh, nt_real ex, nt_real ey, nt_real tol)
+{
+    nt_resolution r;
+    bool hit = nt_map_resolve(m, p, sh, &r);
+    if (!hit || fabs((double)(r.push.x - ex)) > tol || fabs((double)(r.push.y - ey)) > tol) {
+        print_error("resolve %s at (%.6f, %.6f): hit %d push (%.7f, %.7f), expected (%.7f, %.7f)\n",
+                    sh.type == NT_SHAPE_CIRCLE ? "circle" : "aabb", (double)p.x, (double)p.y, hit, (double)r.push.x,
+                    (double)r.push.y, (double)ex, (double)ey);
+        fail();
+    }
+    assert_true(r.contact_count >= 1);
+}
+
+/* A box or circle anywhere along a long flat floor of FULL tiles, seams included,
+ * goes straight up by its penetration. */
+static void test_resolve_flat_floor_seams(void **state)
+{
+    (void)state;
+    const nt_real cells[2] = {1, 24};
+    for (int ci = 0; ci < 2; ci++) {
+        nt_real cs = cells[ci];
+        const char *rows[] = {"..........", "..........", "##########"};
+        nt_map *m = make_map(10, 3, cs, rows);
+        for (int shape = 0; shape < 2; shape++)
+            for (int i = 0; i <= 400; i++) {
+                nt_real half = R(0.1) + R(0.4) * (nt_real)(i % 7) / 6;
+                nt_shape sh = shape ? nt_shape_circle(half * cs) : nt_shape_aabb(half * cs, half * R(0.6) * cs);
+                nt_real x = (R(1) + R(8) * (nt_real)i / 400) * cs; /* crosses every seam, lands on some exactly */
+                nt_real pen = (R(0.002) + R(0.25) * (nt_real)((i * 7) % 13) / 12) * half * R(0.6);
+                nt_real y = 2 * cs - sh.half.y + pen * cs;
+                check_push(m, nt_v2(x, y), sh, 0, -pen * cs, R(2e-4) * cs);
+            }
+        nt_map_destroy(m);
+    }
+}
+
+/* A box slides down a 45-degree slope onto a flat floor: the corner where they
+ * meet never pushes it back up the slope or sideways. */
+static void test_resolve_slope_to_floor(void **state)
+{
+    (void)state;
+    const char *rows[] = {
+        "......",
+        "\\.....",
+        "######",
+    };
+    nt_map *m = make_map(6, 3, 1, rows);
+    for (int shape = 0; shape < 2; shape++) {
+        nt_real hw = R(0.3);
+        nt_shape sh = shape ? nt_shape_circle(hw) : nt_shape_aabb(hw, hw);
+        for (int i = 0; i <= 300; i++) {
+            /* Track of the object's lowest point: along the slope x + ... then the floor y = 2. */
+            nt_real s = R(-0.2) + R(2.2) * (nt_real)i / 300; /* x of the contact point */
+            nt_real pen = R(0.01);
+            nt_vec2 p;
+            if (shape == 0) {
+                /* Box: its bottom-left corner rides the slope y = 1 + x (x in [0,1]), then y = 2. */
+                nt_real cy = s < 1 ? 1 + s : 2;
+                p = nt_v2(s + hw, cy - hw + pen);
+            } else {
+                /* Circle: rides the slope at distance r along the normal, then the floor. */
+                nt_real n = R(0.70710678118654752);
+                nt_vec2 on = s < 1 ? nt_v2(s + (hw - pen) * n, 1 + s - (hw - pen) * n) : nt_v2(s, 2 - hw + pen);
+                p = on;
+            }
+            nt_resolution r;
+            if (!nt_map_resolve(m, p, sh, &r)) continue;
+            /* Never a push to the left (up the slope backwards) and never a push that
+             * is neither the slope normal nor straight up. */
+            if (r.push.x < -1e-6) {
+                print_error("%s at (%.4f, %.4f): pushed left (%.6f, %.6f)\n", shape ? "circle" : "box",
+                            (double)p.x, (double)p.y, (double)r.push.x, (double)r.push.y);
+                fail();
+            }
+            assert_true(r.push.y <= R(1e-6));
+            assert_true(nt_map_overlap_depth(m, nt_v2(p.x + r.push.x, p.y + r.push.y), sh) <= R(1e-4));
+            if (s > R(1.35)) /* wholly over the floor: straight up */
+                check_push(m, p, sh, 0, -pen, R(1e-4));
+        }
+    }
+    nt_map_destroy(m);
+}
+
+/* Inside an L-shaped corner (floor + wall) the way out is the corner point. */
+static void test_resolve_concave_corner(void **state)
+{
+    (void)state;
+    const char *rows[] = {"#...", "#...", "####"};
+    nt_map *m = make_map(4, 3, 1, rows);
+    check_push(m, nt_v2(R(1.2), R(1.8)), nt_shape_aabb(R(0.25), R(0.25)), R(0.05), R(-0.05), R(1e-5));
+    check_push(m, nt_v2(R(1.22), R(1.77)), nt_shape_aabb(R(0.25), R(0.25)), R(0.03), R(-0.02), R(1e-5));
+    /* A circle in the corner leaves along both faces as well. */
+    check_push(m, nt_v2(R(1.2), R(1.8)), nt_shape_circle(R(0.25)), R(0.05), R(-0.05), R(1e-5));
+    nt_map_destroy(m);
+}
+
+static void test_resolve_free_and_border(void **state)
+{
+    (void)state;
+    const char *rows[] = {"....", "....", "...."};
+    nt_map *m = make_map(4, 3, 1, rows);
+    nt_resolution r;
+    r.push = nt_v2(5, 5);
+    assert_false(nt_map_resolve(m, nt_v2(R(2.0), R(1.5)), nt_shape_aabb(R(0.4), R(0.4)), &r));
+    assert_true(r.push.x == 0 && r.push.y == 0 && r.contact_count == 0);
+    assert_true(nt_map_overlap_depth(m, nt_v2(R(2.0), R(1.5)), nt_shape_circle(R(0.4))) == 0);
+    /* Touching the border is not overlapping. */
+    assert_false(nt_map_resolve(m, nt_v2(R(0.4), R(1.5)), nt_shape_aabb(R(0.4), R(0.4)), &r));
+    /* Outside the map is solid: poking into the left border pushes right. */
+    check_push(m, nt_v2(R(0.3), R(1.5)), nt_shape_aabb(R(0.4), R(0.4)), R(0.1), 0, R(1e-5));
+    check_push(m, nt_v2(R(2.0), R(2.8)), nt_shape_circle(R(0.3)), 0, R(-0.1), R(1e-5));
+    /* Non-finite positions are rejected quietly. */
+    assert_false(nt_map_resolve(m, nt_v2((nt_real)NAN, 1), nt_shape_circle(R(0.3)), &r));
+    nt_map_destroy(m);
+}
+
+/* ---- against the brute-force union reference ---- */
+
+static uint64_t rng_state = 0x9E3779B97F4A7C15ULL;
+static double urand(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+/* Random 4x4 maps, random overlapping placements: the push frees the object and
+ * is the shortest way out of the union of the tiles (median exact, >= 99 % within 5 %). */
+static void test_resolve_vs_union_reference(void **state)
+{
+    (void)state;
+    enum { W = 4, H = 4, TRIALS = 1500 };
+    double *rel = malloc(sizeof(double) * TRIALS);
+    int n = 0, not_freed = 0, checked_free = 0;
+    int tiles[W * H];
+    uint8_t t8[W * H];
+    nt_map_def d = nt_default_map_def();
+    d.width = W;
+    d.height = H;
+    d.cell_size = 1;
+    nt_map *m;
+    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    for (int attempt = 0; n < TRIALS && attempt < 20 * TRIALS; attempt++) {
+        for (int i = 0; i < W * H; i++) {
+            double u = urand();
+            tiles[i] = u < 0.4 ? 0 : (u < 0.55 ? 1 : 1 + (int)(urand() * 33));
+            if (tiles[i] > 33) tiles[i] = 33;
+            t8[i] = (uint8_t)tiles[i];
+        }
+        assert_int_equal(nt_map_set_tiles(m, t8, W * H), NT_OK);
+        for (int k = 0; k < 20 && n < TRIALS; k++) {
+            int circle = urand() < 0.5;
+            ref_shape rs;
+            nt_shape sh;
+            double hw = 0.05 + 0.45 * urand(), hh = 0.05 + 0.45 * urand();
+            if (circle) {
+                rs = ref_circle(hw);
+                sh = nt_shape_circle((nt_real)hw);
+            } else {
+                rs = ref_aabb(hw, hh);
+                sh = nt_shape_aabb((nt_real)hw, (nt_real)hh);
+            }
+            double x = 1 + 2 * urand(), y = 1 + 2 * urand();
+            double rdx, rdy;
+            ref_mtv_map(tiles, W, H, rs, x, y, &rdx, &rdy);
+            double rlen = sqrt(rdx * rdx + rdy * rdy);
+            if (rlen < 1e-3 || rlen > 0.3) continue; /* free, or deeper than the promise covers */
+            nt_resolution r;
+            bool hit = nt_map_resolve(m, nt_v2((nt_real)x, (nt_real)y), sh, &r);
+            assert_true(hit);
+            double len = sqrt((double)r.push.x * r.push.x + (double)r.push.y * r.push.y);
+            double resid = (double)nt_map_overlap_depth(m, nt_v2((nt_real)(x + r.push.x), (nt_real)(y + r.push.y)), sh);
+            checked_free++;
+            if (resid > 1e-4) {
+                not_freed++;
+                print_error("not freed: %s %.4f %.4f at (%.5f, %.5f) push (%.5f, %.5f) residual %.2g\n",
+                            circle ? "circle" : "aabb", hw, hh, x, y, (double)r.push.x, (double)r.push.y, resid);
+            }
+            rel[n++] = (len - rlen) / rlen;
+        }
+    }
+    assert_true(n >= TRIALS / 2);
+    qsort(rel, (size_t)n, sizeof(double), cmp_double);
+    int within = 0;
+    for (int i = 0; i < n; i++)
+        if (fabs(rel[i]) <= 0.05) within++;
+    double median = rel[n / 2];
+    print_message("resolve vs union reference: %d placements, median rel. error %.2e, within 5%%: %.2f%%, "
+                  "worst %.3f, not freed %d/%d\n",
+                  n, median, 100.0 * within / n, rel[n - 1], not_freed, checked_free);
+    assert_int_equal(not_freed, 0);
+    assert_true(fabs(median) <= 1e-3);
+    assert_true(within >= (int)(0.99 * n));
+    nt_map_destroy(m);
+    free(rel);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_create_errors),
+        cmocka_unit_test(test_edges_floor_and_wall),
+        cmocka_unit_test(test_edges_slopes_halves_round),
+        cmocka_unit_test(test_edges_bulk_matches_incremental),
+        cmocka_unit_test(test_resolve_flat_floor_seams),
+        cmocka_unit_test(test_resolve_slope_to_floor),
+        cmocka_unit_test(test_resolve_concave_corner),
+        cmocka_unit_test(test_resolve_free_and_border),
+        cmocka_unit_test(test_resolve_vs_union_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
