@@ -197,17 +197,19 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 /* Gather the masked per-tile candidates at p. Returns the number of overlapped
  * tiles; *nc receives the number of candidates. */
 static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsigned use_masks, cand *cs, int *nc,
-                  int *all_convex)
+                  int *all_convex, int *present)
 {
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
     int overlapped = 0;
     *nc = 0;
     *all_convex = 1;
+    *present = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             int t = nt__map_tile(map, x, y);
             if (t == NT_TILE_EMPTY) continue;
+            (*present)++;
             unsigned mask = use_masks ? nt__map_cell(map, x, y).seams : 0u;
             nt_mtv m;
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
@@ -275,12 +277,12 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
 static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc,
-                          int overlapped, int all_convex, nt_resolution *out)
+                          int overlapped, int all_convex, int present, nt_resolution *out)
 {
-    /* Fast certificate: every overlapped tile pushes the same way, the deepest
-     * push clears them all (convex regions stay cleared further along their
-     * normal), and it brings no new cell into range. */
-    if (nc == overlapped && all_convex && nc > 0) {
+    /* Fast certificate: every solid tile in range is overlapped and pushes the same
+     * way, the deepest push clears them all (convex regions stay cleared further
+     * along their normal), and it brings no new cell into range. */
+    if (nc == overlapped && nc == present && all_convex && nc > 0) {
         int deepest = 0, same = 1;
         for (int i = 1; i < nc; i++) {
             if (cs[i].nx != cs[0].nx || cs[i].ny != cs[0].ny) same = 0;
@@ -334,7 +336,225 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     return found;
 }
 
-/* Last resort: the nearest free point found along 64 directions. */
+/* ---- exact enumeration ----
+ * The nearest free point lies on the boundary of the union of the tiles' Minkowski
+ * regions M_k: it is the foot of c on one boundary curve, or where two curves
+ * cross. Every curve is a line or a circle; those farther than the best free
+ * point known so far cannot hold a nearer one. */
+
+typedef struct feat {
+    int circle;          /* 0: line n.p = e (free side n.p >= e); 1: circle (q, rad) */
+    int sign;            /* circles: +1 free outside, -1 free inside */
+    nt_real nx, ny, e;
+    nt_real qx, qy, rad;
+    int cx, cy;
+} feat;
+
+enum { MAX_FEATS = 96 };
+
+typedef struct feats {
+    feat f[MAX_FEATS];
+    int n;
+} feats;
+
+static void add_line(feats *fs, nt_real nx, nt_real ny, nt_real e, int cx, int cy)
+{
+    if (fs->n >= MAX_FEATS) return;
+    feat *f = &fs->f[fs->n++];
+    f->circle = 0;
+    f->sign = 1;
+    f->nx = nx;
+    f->ny = ny;
+    f->e = e;
+    f->qx = f->qy = f->rad = 0;
+    f->cx = cx;
+    f->cy = cy;
+}
+
+static void add_circle(feats *fs, nt_real qx, nt_real qy, nt_real rad, int sign, int cx, int cy)
+{
+    if (fs->n >= MAX_FEATS || rad <= 0) return;
+    feat *f = &fs->f[fs->n++];
+    f->circle = 1;
+    f->sign = sign;
+    f->nx = f->ny = f->e = 0;
+    f->qx = qx;
+    f->qy = qy;
+    f->rad = rad;
+    f->cx = cx;
+    f->cy = cy;
+}
+
+/* The boundary curves of M = tile (+) object, for the tile in cell (X, Y). */
+static void tile_features(feats *fs, int t, int X, int Y, nt_shape shape, nt_vec2 h)
+{
+    const nt_tile_info *ti = &nt__tiles[t];
+    const nt__tile_geom *g = &nt__geom[t];
+    nt_real fx = (nt_real)X, fy = (nt_real)Y;
+    if (shape.type == NT_SHAPE_AABB) {
+        add_line(fs, -1, 0, -(fx + ti->bounds_min.x - h.x), X, Y);
+        add_line(fs, 1, 0, fx + ti->bounds_max.x + h.x, X, Y);
+        add_line(fs, 0, -1, -(fy + ti->bounds_min.y - h.y), X, Y);
+        add_line(fs, 0, 1, fy + ti->bounds_max.y + h.y, X, Y);
+        if (ti->cls == NT_CLASS_POLYGON) {
+            if (g->has_slope) {
+                nt_real nx = g->slope[4], ny = g->slope[5];
+                nt_real e = g->slope[2] * g->slope[3] + nx * fx + ny * fy + h.x * nt__fabs(nx) + h.y * nt__fabs(ny);
+                add_line(fs, nx, ny, e, X, Y);
+            }
+        } else {
+            /* The arc swept by the box corner facing it (convex: free outside; concave:
+             * the corner nearest the solid must lie inside the hollow). */
+            nt_real qx = fx + ti->arc_center.x + h.x * (nt_real)ti->signx;
+            nt_real qy = fy + ti->arc_center.y + h.y * (nt_real)ti->signy;
+            add_circle(fs, qx, qy, 1, ti->cls == NT_CLASS_CONVEX ? 1 : -1, X, Y);
+        }
+        return;
+    }
+    nt_real r = h.x;
+    for (int i = 0; i < g->edge_count; i++) {
+        const nt__edge *ed = &g->edges[i];
+        add_line(fs, ed->nx, ed->ny, ed->ud * ed->inv + ed->nx * fx + ed->ny * fy + r, X, Y);
+    }
+    for (int i = 0; i < ti->vertex_count; i++) add_circle(fs, fx + ti->vertices[i].x, fy + ti->vertices[i].y, r, 1, X, Y);
+    if (ti->cls == NT_CLASS_CONVEX) add_circle(fs, fx + ti->arc_center.x, fy + ti->arc_center.y, 1 + r, 1, X, Y);
+    if (ti->cls == NT_CLASS_CONCAVE) {
+        add_circle(fs, fx + ti->arc_center.x, fy + ti->arc_center.y, 1 - r, -1, X, Y);
+        add_line(fs, -1, 0, -(fx - r), X, Y);
+        add_line(fs, 1, 0, fx + 1 + r, X, Y);
+        add_line(fs, 0, -1, -(fy - r), X, Y);
+        add_line(fs, 0, 1, fy + 1 + r, X, Y);
+    }
+}
+
+static nt_real feat_distance(const feat *f, nt_vec2 c)
+{
+    if (!f->circle) return nt__fabs(f->nx * c.x + f->ny * c.y - f->e);
+    nt_real dx = c.x - f->qx, dy = c.y - f->qy;
+    return nt__fabs(nt__sqrt(dx * dx + dy * dy) - f->rad);
+}
+
+/* The push normal a feature gives at a point on it. */
+static nt_vec2 feat_normal(const feat *f, nt_vec2 p)
+{
+    if (!f->circle) return nt_v2(f->nx, f->ny);
+    nt_real dx = p.x - f->qx, dy = p.y - f->qy;
+    nt_real d = nt__sqrt(dx * dx + dy * dy);
+    if (d <= 0) return nt_v2(0, -1);
+    nt_real s = (nt_real)f->sign / d;
+    return nt_v2(dx * s, dy * s);
+}
+
+static int foot(const feat *f, nt_vec2 c, nt_vec2 *p)
+{
+    if (!f->circle) {
+        nt_real s = f->nx * c.x + f->ny * c.y - f->e;
+        *p = nt_v2(c.x - s * f->nx, c.y - s * f->ny);
+        return 1;
+    }
+    nt_real dx = c.x - f->qx, dy = c.y - f->qy;
+    nt_real d = nt__sqrt(dx * dx + dy * dy);
+    if (d <= 0) return 0;
+    *p = nt_v2(f->qx + dx * f->rad / d, f->qy + dy * f->rad / d);
+    return 1;
+}
+
+/* Up to two crossing points of two curves. */
+static int cross(const feat *a, const feat *b, nt_vec2 pts[2])
+{
+    if (!a->circle && !b->circle) {
+        nt_real det = a->nx * b->ny - a->ny * b->nx;
+        if (nt__fabs(det) < R(1e-6)) return 0;
+        pts[0] = nt_v2((a->e * b->ny - b->e * a->ny) / det, (a->nx * b->e - b->nx * a->e) / det);
+        return 1;
+    }
+    if (a->circle && !b->circle) {
+        const feat *t = a;
+        a = b;
+        b = t;
+    }
+    if (!a->circle) { /* line a, circle b */
+        nt_real s = a->nx * b->qx + a->ny * b->qy - a->e;
+        if (nt__fabs(s) > b->rad) return 0;
+        nt_real fx = b->qx - s * a->nx, fy = b->qy - s * a->ny;
+        nt_real hc = nt__sqrt(nt__max(0, b->rad * b->rad - s * s));
+        pts[0] = nt_v2(fx - a->ny * hc, fy + a->nx * hc);
+        pts[1] = nt_v2(fx + a->ny * hc, fy - a->nx * hc);
+        return 2;
+    }
+    nt_real dx = b->qx - a->qx, dy = b->qy - a->qy;
+    nt_real d2 = dx * dx + dy * dy;
+    nt_real d = nt__sqrt(d2);
+    if (d <= 0 || d > a->rad + b->rad || d < nt__fabs(a->rad - b->rad)) return 0;
+    nt_real k = (a->rad * a->rad - b->rad * b->rad + d2) / (2 * d);
+    nt_real hh = nt__sqrt(nt__max(0, a->rad * a->rad - k * k));
+    nt_real bx = a->qx + dx * k / d, by = a->qy + dy * k / d;
+    pts[0] = nt_v2(bx - dy * hh / d, by + dx * hh / d);
+    pts[1] = nt_v2(bx + dy * hh / d, by - dx * hh / d);
+    return 2;
+}
+
+static void set_from_feats(nt_resolution *out, nt_vec2 c, nt_vec2 p, const feat *a, const feat *b)
+{
+    out->push = nt__sub(p, c);
+    out->contact_count = b ? 2 : 1;
+    const feat *fs[2] = {a, b};
+    for (int i = 0; i < out->contact_count; i++) {
+        nt_vec2 n = feat_normal(fs[i], p);
+        out->contacts[i].normal = n;
+        out->contacts[i].depth = nt__max(0, nt__dot(out->push, n));
+        out->contacts[i].cell_x = fs[i]->cx;
+        out->contacts[i].cell_y = fs[i]->cy;
+    }
+}
+
+/* Nearest free point within `reach` of c. Returns 1 and fills out when found. */
+static int enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_real reach, nt_resolution *out)
+{
+    feats all;
+    all.n = 0;
+    int x0 = nt__floor_int(c.x - h.x - reach), x1 = nt__floor_int(c.x + h.x + reach);
+    int y0 = nt__floor_int(c.y - h.y - reach), y1 = nt__floor_int(c.y + h.y + reach);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t != NT_TILE_EMPTY) tile_features(&all, t, x, y, shape, h);
+        }
+    /* Keep the curves that come within reach. */
+    int near[MAX_FEATS], nn = 0;
+    for (int i = 0; i < all.n; i++)
+        if (feat_distance(&all.f[i], c) < reach) near[nn++] = i;
+    nt_real best = reach;
+    int found = 0;
+    for (int i = 0; i < nn; i++) {
+        const feat *f = &all.f[near[i]];
+        nt_vec2 p;
+        if (!foot(f, c, &p)) continue;
+        nt_real d = nt__len(nt__sub(p, c));
+        if (d < best && is_free(map, p, shape, h)) {
+            best = d;
+            set_from_feats(out, c, p, f, NULL);
+            found = 1;
+        }
+    }
+    for (int i = 0; i < nn; i++)
+        for (int j = i + 1; j < nn; j++) {
+            const feat *a = &all.f[near[i]], *b = &all.f[near[j]];
+            nt_vec2 pts[2];
+            int k = cross(a, b, pts);
+            for (int m = 0; m < k; m++) {
+                nt_real d = nt__len(nt__sub(pts[m], c));
+                if (d < best && is_free(map, pts[m], shape, h)) {
+                    best = d;
+                    set_from_feats(out, c, pts[m], a, b);
+                    found = 1;
+                }
+            }
+        }
+    return found;
+}
+
+/* Last resort for deep positions: the nearest free point found along 64 directions. */
 static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
 {
     enum { DIRS = 64, STEPS = 48 };
@@ -384,49 +604,32 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
 
     cand cs[MAX_CANDS];
-    int nc, all_convex;
-    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex);
+    int nc, all_convex, present;
+    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present);
     if (overlapped == 0) return false;
 
-    if (!best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, &res)) {
-        /* Repeated projection: leave the deepest tile, then look again. */
-        nt_vec2 q = p;
-        int done = 0;
-        for (int it = 0; it < 8; it++) {
-            int n2 = gather(map, q, shape, h, 1u, cs, &nc, &all_convex);
-            if (n2 == 0) {
-                done = 1;
-                break;
-            }
-            if (nc == 0) n2 = gather(map, q, shape, h, 0u, cs, &nc, &all_convex);
-            if (nc == 0) break;
-            nt_resolution step;
-            if (best_candidate(map, q, shape, h, cs, nc, n2, all_convex, &step)) {
-                q = nt__add(q, step.push);
-                res.contact_count = step.contact_count;
-                res.contacts[0] = step.contacts[0];
-                res.contacts[1] = step.contacts[1];
-                done = 1;
-                break;
-            }
-            int deepest = 0;
-            for (int i = 1; i < nc; i++)
-                if (cs[i].depth > cs[deepest].depth) deepest = i;
-            q.x += cs[deepest].nx * cs[deepest].depth;
-            q.y += cs[deepest].ny * cs[deepest].depth;
-            set_single(&res, &cs[deepest]);
+    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, &res);
+    /* A freeing push no longer than the deepest single-tile overlap is optimal: no
+     * way out of the union can be shorter than the way out of one of its tiles. */
+    nt_real len = found ? nt__len(res.push) : R(0.8);
+    if (!found || len > depth_at(map, p, shape, h) * R(1.000001) + R(1e-6)) {
+        nt_resolution e;
+        memset(&e, 0, sizeof e);
+        if (enumerate(map, p, shape, h, len, &e)) {
+            res = e;
+            found = 1;
         }
-        nt_vec2 d = nt__sub(q, p);
-        if (!done) search_directions(map, p, shape, h, &d);
+    }
+    if (!found) {
+        nt_vec2 d;
+        if (!search_directions(map, p, shape, h, &d)) d = nt_v2(0, 0);
+        nt_real l = nt__len(d);
         res.push = d;
-        if (res.contact_count == 0) {
-            nt_real len = nt__len(d);
-            res.contact_count = 1;
-            res.contacts[0].normal = len > 0 ? nt__scale(d, 1 / len) : nt_v2(0, -1);
-            res.contacts[0].depth = len;
-            res.contacts[0].cell_x = nt__floor_int(p.x);
-            res.contacts[0].cell_y = nt__floor_int(p.y);
-        }
+        res.contact_count = 1;
+        res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+        res.contacts[0].depth = l;
+        res.contacts[0].cell_x = nt__floor_int(p.x);
+        res.contacts[0].cell_y = nt__floor_int(p.y);
     }
     /* Back to world units. */
     res.push = nt__scale(res.push, cell);
