@@ -235,6 +235,7 @@ static void test_resolve_flat_floor_seams(void **state)
         for (int shape = 0; shape < 2; shape++)
             for (int i = 0; i <= 400; i++) {
                 nt_real half = R(0.1) + R(0.4) * (nt_real)(i % 7) / 6;
+                if (half > R(0.5)) half = R(0.5); /* rounding must not exceed the largest allowed size */
                 nt_shape sh = shape ? nt_shape_circle(half * cs) : nt_shape_aabb(half * cs, half * R(0.6) * cs);
                 nt_real x = (R(1) + R(8) * (nt_real)i / 400) * cs; /* crosses every seam, lands on some exactly */
                 nt_real pen = (R(0.002) + R(0.25) * (nt_real)((i * 7) % 13) / 12) * half * R(0.6);
