@@ -240,6 +240,13 @@ static int is_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
     return depth_at(map, p, shape, h) <= free_tolerance(p);
 }
 
+/* Free up to rounding only: for searches that converge onto the contact. */
+static int is_free_strict(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    return depth_at(map, p, shape, h) <= R(8) * NT_REAL_EPS * mag;
+}
+
 /* The displacement d with d.n1 = depth1 and d.n2 = depth2 (the corner of two
  * push planes). Returns 0 when the planes are (nearly) parallel. */
 static int corner(const cand *a, const cand *b, nt_vec2 *d)
@@ -575,9 +582,10 @@ static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_ve
             lo = t;
         }
         if (hi < 0) continue;
-        for (int it = 0; it < 24; it++) {
+        if (!is_free_strict(map, nt_v2(p.x + ux * hi, p.y + uy * hi), shape, h)) lo = hi, hi = hi + reach / STEPS;
+        for (int it = 0; it < 32; it++) {
             nt_real mid = R(0.5) * (lo + hi);
-            if (is_free(map, nt_v2(p.x + ux * mid, p.y + uy * mid), shape, h)) hi = mid;
+            if (is_free_strict(map, nt_v2(p.x + ux * mid, p.y + uy * mid), shape, h)) hi = mid;
             else lo = mid;
         }
         if (hi < best) {
@@ -587,6 +595,33 @@ static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_ve
         }
     }
     return found;
+}
+
+/* Deep in solid, beyond any short way out: clamp into the map and, if still stuck,
+ * go to the nearest EMPTY cell's centre. Frees the object; not the shortest way. */
+static nt_vec2 escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    nt_vec2 q = nt_v2(nt__clamp(p.x, h.x, (nt_real)map->w - h.x), nt__clamp(p.y, h.y, (nt_real)map->h - h.y));
+    if (is_free(map, q, shape, h)) return nt__sub(q, p);
+    int cx = (int)nt__clamp(nt__floor(q.x), 0, (nt_real)(map->w - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), 0, (nt_real)(map->h - 1));
+    nt_real best = NT_REAL_MAX;
+    nt_vec2 d = nt_v2(0, 0);
+    for (int ring = 0; ring < 64; ring++) {
+        if ((nt_real)ring - 1 > best) break; /* no cell of this ring can be nearer */
+        for (int y = cy - ring; y <= cy + ring; y++)
+            for (int x = cx - ring; x <= cx + ring; x++) {
+                if (x != cx - ring && x != cx + ring && y != cy - ring && y != cy + ring) continue;
+                if (nt__map_tile(map, x, y) != NT_TILE_EMPTY) continue;
+                nt_vec2 c = nt_v2((nt_real)x + R(0.5), (nt_real)y + R(0.5));
+                nt_real dist = nt__len(nt__sub(c, p));
+                if (dist < best) {
+                    best = dist;
+                    d = nt__sub(c, p);
+                }
+            }
+    }
+    return d;
 }
 
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
@@ -605,6 +640,19 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
 
     cand cs[MAX_CANDS];
     int nc, all_convex, present;
+    if (p.x < -2 || p.y < -2 || p.x > (nt_real)map->w + 2 || p.y > (nt_real)map->h + 2) {
+        /* Far inside the border: come back into the map first. */
+        nt_vec2 d = escape(map, p, shape, h);
+        res.push = nt__scale(d, cell);
+        nt_real l = nt__len(d);
+        res.contact_count = 1;
+        res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+        res.contacts[0].depth = l * cell;
+        res.contacts[0].cell_x = nt__floor_int(p.x);
+        res.contacts[0].cell_y = nt__floor_int(p.y);
+        if (out) *out = res;
+        return true;
+    }
     int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present);
     if (overlapped == 0) return false;
 
@@ -621,8 +669,8 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         }
     }
     if (!found) {
-        nt_vec2 d;
-        if (!search_directions(map, p, shape, h, &d)) d = nt_v2(0, 0);
+        nt_vec2 d, e = escape(map, p, shape, h);
+        if (!search_directions(map, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
         nt_real l = nt__len(d);
         res.push = d;
         res.contact_count = 1;
