@@ -1,0 +1,957 @@
+/* Tests of the CLI `ntile query` protocol (and the CLI's usage errors and bench).
+ *
+ * Each test writes its input into a private temporary directory, runs the binary
+ * named by the NTILE environment variable (`make test` sets it) with fork/exec, and
+ * checks its standard output line by line and its exit status. Expected numbers are
+ * worked out by hand from the tile geometry in the comments and compared with a
+ * tolerance; words (ok, miss, hit, error:) are compared exactly.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "ntile/ntile.h"
+
+#define TOL 2e-5
+
+/* ---------- temporary files ---------- */
+
+static char g_dir[4096];
+static char *g_files[256];
+static size_t g_nfiles;
+
+static void remove_temp_files(void)
+{
+    for (size_t i = 0; i < g_nfiles; i++) unlink(g_files[i]);
+    rmdir(g_dir);
+}
+
+/* A test run stopped by a signal (e.g. a timeout) still removes its files. */
+static void on_signal(int sig)
+{
+    remove_temp_files();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static int group_setup(void **state)
+{
+    (void)state;
+    const char *tmp = getenv("TMPDIR");
+    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-query-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(g_dir)) return -1;
+    signal(SIGTERM, on_signal);
+    signal(SIGINT, on_signal);
+    signal(SIGHUP, on_signal);
+    return 0;
+}
+
+static int group_teardown(void **state)
+{
+    (void)state;
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGHUP, SIG_DFL);
+    remove_temp_files();
+    for (size_t i = 0; i < g_nfiles; i++) free(g_files[i]);
+    g_nfiles = 0;
+    return 0;
+}
+
+/* A new empty file in the test directory; returns its path and an open descriptor. */
+static const char *new_file(int *fd)
+{
+    assert_true(g_nfiles < sizeof g_files / sizeof g_files[0]);
+    char *path = malloc(strlen(g_dir) + 16);
+    assert_non_null(path);
+    sprintf(path, "%s/f-XXXXXX", g_dir);
+    *fd = mkstemp(path);
+    assert_true(*fd >= 0);
+    g_files[g_nfiles++] = path;
+    return path;
+}
+
+static const char *write_bytes(const void *data, size_t len)
+{
+    int fd;
+    const char *path = new_file(&fd);
+    const char *p = data;
+    while (len > 0) {
+        ssize_t n = write(fd, p, len);
+        assert_true(n > 0);
+        p += n;
+        len -= (size_t)n;
+    }
+    close(fd);
+    return path;
+}
+
+static const char *write_text(const char *text) { return write_bytes(text, strlen(text)); }
+
+static char *read_all(int fd, size_t *len)
+{
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap + 1);
+    assert_non_null(buf);
+    assert_int_equal(lseek(fd, 0, SEEK_SET), 0);
+    for (;;) {
+        if (n == cap) {
+            cap *= 2;
+            buf = realloc(buf, cap + 1);
+            assert_non_null(buf);
+        }
+        ssize_t k = read(fd, buf + n, cap - n);
+        assert_true(k >= 0);
+        if (k == 0) break;
+        n += (size_t)k;
+    }
+    buf[n] = '\0';
+    *len = n;
+    return buf;
+}
+
+/* ---------- running the CLI ---------- */
+
+typedef struct run_result {
+    int status;   /* exit status; 128 + signal when killed */
+    char *out;    /* standard output, NUL-terminated */
+    size_t out_len;
+    char *err;    /* standard error */
+    size_t err_len;
+    char *split;  /* a copy of out cut into lines */
+    char **lines; /* the lines of standard output (each ended with '\n') */
+    size_t nlines;
+} run_result;
+
+static const char *ntile_path(void)
+{
+    const char *p = getenv("NTILE");
+    if (!p || !*p) {
+        print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
+        skip();
+    }
+    return p;
+}
+
+/* Run `ntile ARGS...` (NULL-terminated) with standard input from stdin_path (or
+ * /dev/null), capturing both outputs. */
+static void run_cli(run_result *r, const char *stdin_path, const char *const *args)
+{
+    const char *exe = ntile_path();
+    const char *argv[32];
+    size_t n = 0;
+    argv[n++] = exe;
+    for (; args[n - 1]; n++) {
+        assert_true(n < 31);
+        argv[n] = args[n - 1];
+    }
+    argv[n] = NULL;
+    /* The output files are read through their descriptors: their names can go now. */
+    int out_fd, err_fd;
+    unlink(new_file(&out_fd));
+    unlink(new_file(&err_fd));
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int in_fd = open(stdin_path ? stdin_path : "/dev/null", O_RDONLY);
+        if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
+        /* Under the sanitizers, a report must not pass for the CLI's own status 1. */
+        setenv("ASAN_OPTIONS", "exitcode=99", 0);
+        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
+        execv(exe, (char *const *)argv);
+        _exit(126);
+    }
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
+    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
+    assert_int_not_equal(r->status, 125); /* could not redirect */
+    assert_int_not_equal(r->status, 126); /* could not run NTILE */
+    if (r->status >= 128) fail_msg("the CLI died from signal %d", r->status - 128); /* never crash */
+    r->out = read_all(out_fd, &r->out_len);
+    r->err = read_all(err_fd, &r->err_len);
+    close(out_fd);
+    close(err_fd);
+    if (strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
+        fail_msg("sanitizer report from the CLI:\n%s", r->err);
+    if (r->status > 2) fail_msg("unexpected exit status %d (stderr: %s)", r->status, r->err);
+    /* Split the output: every line ends with '\n', and none holds a NUL. */
+    assert_int_equal(strlen(r->out), r->out_len);
+    assert_true(r->out_len == 0 || r->out[r->out_len - 1] == '\n');
+    size_t count = 0;
+    for (size_t i = 0; i < r->out_len; i++) count += r->out[i] == '\n';
+    r->lines = calloc(count + 1, sizeof *r->lines);
+    assert_non_null(r->lines);
+    r->nlines = 0;
+    r->split = malloc(r->out_len + 1);
+    assert_non_null(r->split);
+    memcpy(r->split, r->out, r->out_len + 1);
+    char *s = r->split;
+    for (size_t i = 0; i < count; i++) {
+        char *nl = strchr(s, '\n');
+        *nl = '\0';
+        r->lines[r->nlines++] = s;
+        s = nl + 1;
+    }
+}
+
+static void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
+    free(r->split);
+    free(r->lines);
+    memset(r, 0, sizeof *r);
+}
+
+/* `ntile query FILE` on the given text. */
+static void run_query_text(run_result *r, const char *text)
+{
+    const char *path = write_text(text);
+    const char *args[] = {"query", path, NULL};
+    run_cli(r, NULL, args);
+}
+
+/* ---------- checking answers ---------- */
+
+/* Parse exactly n numbers separated by single spaces. */
+static void parse_numbers(const char *s, double *v, int n)
+{
+    for (int i = 0; i < n; i++) {
+        char *end;
+        v[i] = strtod(s, &end);
+        if (end == s) fail_msg("expected %d numbers, got '%s'", n, s);
+        assert_true(isfinite(v[i]));
+        s = end;
+        if (i + 1 < n) {
+            if (*s != ' ') fail_msg("expected a space after number %d in '%s'", i + 1, s);
+            s++;
+        }
+    }
+    if (*s) fail_msg("trailing text '%s' after %d numbers", s, n);
+}
+
+static void assert_close(double got, double want, const char *what)
+{
+    if (!(fabs(got - want) <= TOL)) fail_msg("%s: got %.9g, want %.9g", what, got, want);
+}
+
+static void expect_vec(const char *line, double dx, double dy)
+{
+    double v[2];
+    parse_numbers(line, v, 2);
+    assert_close(v[0], dx, "DX");
+    assert_close(v[1], dy, "DY");
+}
+
+static void expect_hit(const char *line, double t, double nx, double ny)
+{
+    if (strncmp(line, "hit ", 4) != 0) fail_msg("expected 'hit ...', got '%s'", line);
+    double v[3];
+    parse_numbers(line + 4, v, 3);
+    assert_close(v[0], t, "T");
+    assert_close(v[1], nx, "NX");
+    assert_close(v[2], ny, "NY");
+}
+
+/* `error: line N: ...` naming the right line, with a non-empty reason containing `needle`. */
+static void expect_error(const char *line, unsigned long lineno, const char *needle)
+{
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "error: line %lu: ", lineno);
+    if (strncmp(line, prefix, strlen(prefix)) != 0) fail_msg("expected '%s...', got '%s'", prefix, line);
+    if (strlen(line) <= strlen(prefix) + 3) fail_msg("error reason too short: '%s'", line);
+    if (needle && !strstr(line, needle)) fail_msg("expected '%s' in '%s'", needle, line);
+}
+
+/* One input line and what it must print:
+ *   NULL            nothing (blank or comment)
+ *   "ok", "miss"    that exact word
+ *   "v DX DY"       a vector
+ *   "h T NX NY"     a ray hit
+ *   "e TEXT"        an error on this line whose reason contains TEXT */
+typedef struct qa {
+    const char *in;
+    const char *expect;
+} qa;
+
+static void check_answers(const run_result *r, const qa *cases, size_t n)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *e = cases[i].expect;
+        if (!e) continue;
+        if (k >= r->nlines) fail_msg("no output for line %zu '%s'", i + 1, cases[i].in);
+        const char *got = r->lines[k++];
+        if (e[0] == 'v') {
+            double v[2];
+            parse_numbers(e + 2, v, 2);
+            expect_vec(got, v[0], v[1]);
+        } else if (e[0] == 'h') {
+            double v[3];
+            parse_numbers(e + 2, v, 3);
+            expect_hit(got, v[0], v[1], v[2]);
+        } else if (e[0] == 'e') {
+            expect_error(got, (unsigned long)i + 1, e + 2);
+        } else if (strcmp(got, e) != 0) {
+            fail_msg("line %zu '%s': expected '%s', got '%s'", i + 1, cases[i].in, e, got);
+        }
+    }
+    assert_int_equal(r->nlines, k);
+}
+
+/* Run the cases as one file and check every answer and the exit status. */
+static void run_cases(const qa *cases, size_t n)
+{
+    size_t len = 1;
+    for (size_t i = 0; i < n; i++) len += strlen(cases[i].in) + 1;
+    char *text = malloc(len);
+    assert_non_null(text);
+    text[0] = '\0';
+    int errors = 0;
+    for (size_t i = 0; i < n; i++) {
+        strcat(text, cases[i].in);
+        strcat(text, "\n");
+        errors |= cases[i].expect && cases[i].expect[0] == 'e';
+    }
+    run_result r;
+    run_query_text(&r, text);
+    check_answers(&r, cases, n);
+    assert_int_equal(r.status, errors ? 1 : 0);
+    run_free(&r);
+    free(text);
+}
+
+#define RUN_CASES(c) run_cases(c, sizeof(c) / sizeof((c)[0]))
+
+/* ---------- answers ---------- */
+
+static void test_tile_answers(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        {"# one tile alone in cell (0,0)", NULL},
+        /* Box y span [-0.15, 0.35]: 0.35 into the top of FULL; the other ways out are 0.75+. */
+        {"tile FULL aabb 0.5 0.1 0.25 0.25", "v 0 -0.35"},
+        /* Touching the top face is not overlapping. */
+        {"tile FULL aabb 0.5 -0.25 0.25 0.25", "v 0 0"},
+        {"tile EMPTY aabb 0.5 0.5 0.25 0.25", "v 0 0"},
+        /* Numeric id 1 = FULL; circle 0.1 into the top. */
+        {"tile 1 circle 0.5 -0.1 0.2", "v 0 -0.1"},
+        /* 45DEGpn: solid where x < y, outward normal (1,-1)/sqrt2. Centre (0.3,0.5) is
+         * inside, 0.2/sqrt2 from the slope: leaves by 0.2 + 0.2/sqrt2 along the normal,
+         * i.e. DX = 0.2/sqrt2 + 0.1 (the left face would need 0.5, the bottom 0.7). */
+        {"tile 45DEGpn circle 0.3 0.5 0.2", "v 0.2414213562 -0.2414213562"},
+        /* Centre (0.6,0.4) outside, 0.2/sqrt2 from the slope, nearest point (0.5,0.5)
+         * on it: depth 0.2 - 0.2/sqrt2, DX = 0.2/sqrt2 - 0.1. */
+        {"tile 45DEGpn circle 0.6 0.4 0.2", "v 0.0414213562 -0.0414213562"},
+        /* 22DEGpnS: solid below y = 0.5 + x/2, normal (1,-2)/sqrt5. Box corner (0.4,0.8)
+         * is 0.1 below the line at x = 0.4: depth 0.2/sqrt5 -> (0.04, -0.08). */
+        {"tile 22DEGpnS aabb 0.5 0.7 0.1 0.1", "v 0.04 -0.08"},
+        /* 67DEGpnS: solid where x < y/2, normal (2,-1)/sqrt5. Centre (0.2,0.6) is inside
+         * by 0.2/sqrt5; out by 0.1 + 0.2/sqrt5 -> (0.2/sqrt5 + 0.08, -0.1/sqrt5 - 0.04). */
+        {"tile 67DEGpnS circle 0.2 0.6 0.1", "v 0.1694427191 -0.0847213595"},
+        /* CONVEXpn: quarter disc of radius 1 around (0,1). Centre (0.5,0.5) is 1/sqrt2
+         * from (0,1): out along (1,-1)/sqrt2 by 1 - 1/sqrt2 + 0.1 = 0.39289. */
+        {"tile CONVEXpn circle 0.5 0.5 0.1", "v 0.2778174593 -0.2778174593"},
+        /* CONVEXnn is the mirror image (disc around (1,1)): same push, x mirrored. */
+        {"tile CONVEXnn circle 0.5 0.5 0.1", "v -0.2778174593 -0.2778174593"},
+        /* CONCAVEpn: cell minus the disc of radius 1 around (1,0). Centre (0.2,0.8) is
+         * 0.8*sqrt2 from (1,0); the circle fits back into the disc after moving
+         * 0.8*sqrt2 - 0.9 toward (1,0) (the left and bottom faces need 0.3). */
+        {"tile CONCAVEpn circle 0.2 0.8 0.1", "v 0.1636038969 -0.1636038969"},
+        /* HALFd fills y >= 0.5: a point (size 0) at y = 0.6 leaves up by 0.1. */
+        {"tile HALFd aabb 0.5 0.6 0 0", "v 0 -0.1"},
+        /* HALFl fills x <= 0.5: a box spanning x in [0.45, 0.95] leaves right by 0.05. */
+        {"tile HALFl aabb 0.7 0.5 0.25 0.1", "v 0.05 0"},
+        {"tile FULL circle 0.5 0.1 0", "v 0 -0.1"},
+        /* A point on the boundary touches only. */
+        {"tile FULL aabb 0 0.5 0 0", "v 0 0"},
+    };
+    RUN_CASES(cases);
+}
+
+static void test_pair_answers(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        /* Centres 0.6 apart, radii 0.5: the first moves 0.4 away from the second. */
+        {"pair circle 0 0 0.5 circle 0.6 0 0.5", "v -0.4 0"},
+        /* Box [-0.2,0.2]^2 vs circle at (0.5,0) r 0.4: nearest box point (0.2,0) is 0.3
+         * from the centre, depth 0.1; the box moves left, the circle right. */
+        {"pair aabb 0 0 0.2 0.2 circle 0.5 0 0.4", "v -0.1 0"},
+        {"pair circle 0.5 0 0.4 aabb 0 0 0.2 0.2", "v 0.1 0"},
+        /* Boxes: x overlap 0.6 - 0.5 = 0.1, y overlap 0.4 - 0.1 = 0.3: along x. */
+        {"pair aabb 0 0 0.3 0.2 aabb 0.5 0.1 0.3 0.2", "v -0.1 0"},
+        /* Same boxes shifted so y is the shallow axis: the first moves down. */
+        {"pair aabb 0 0.35 0.3 0.2 aabb 0.1 0 0.3 0.2", "v 0 0.05"},
+        {"pair circle 0 0 0.2 circle 1 0 0.2", "v 0 0"},
+        /* Touching circles do not overlap. */
+        {"pair circle 0 0 0.25 circle 0 0.5 0.25", "v 0 0"},
+        /* A zero-radius circle 0.3 inside a circle of radius 0.5: out by 0.2. */
+        {"pair circle 0 0 0 circle 0.3 0 0.5", "v -0.2 0"},
+    };
+    RUN_CASES(cases);
+}
+
+/* A 4 x 3 map: rows 0 and 1 empty, row 2 a FULL floor (its top at y = 2). */
+#define FLOOR_MAP "map 4 3 EMPTY,EMPTY,EMPTY,EMPTY,EMPTY,EMPTY,EMPTY,EMPTY,FULL,FULL,FULL,FULL"
+
+static void test_map_resolve_and_ray(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        {FLOOR_MAP, "ok"},
+        /* A box on the seam x = 2 between two floor tiles, 0.1 into the floor: up. */
+        {"resolve aabb 2 1.9 0.3 0.2", "v 0 -0.1"},
+        /* Tall box sunk 0.25, just right of the seam: tile (2,2) alone would push it
+         * 0.12 left and tile (1,2) 0.08 right, but the seam is no edge: up by 0.25. */
+        {"resolve aabb 2.02 1.8 0.1 0.45", "v 0 -0.25"},
+        {"resolve circle 2 1.8 0.3", "v 0 -0.1"},
+        /* Resting exactly on the floor: touching only. */
+        {"resolve aabb 1.5 1.75 0.25 0.25", "v 0 0"},
+        {"resolve circle 1.5 1.0 0.4", "v 0 0"},
+        /* Outside the map is solid: a box 0.1 into the top border (y < 0) goes down. */
+        {"resolve aabb 1.5 0.15 0.25 0.25", "v 0 0.1"},
+        /* Straight down from y = 0.5 to y = 2.5 meets the floor at y = 2: T = 0.75. */
+        {"ray 0.5 0.5 0.5 2.5", "h 0.75 0 -1"},
+        /* Diagonal (2,2) from (0.5,1): reaches y = 2 at T = 0.5. */
+        {"ray 0.5 1 2.5 3", "h 0.5 0 -1"},
+        /* Left into the border at x = 0: T = 0.5, normal (1,0). */
+        {"ray 0.5 0.5 -0.5 0.5", "h 0.5 1 0"},
+        {"ray 0.5 0.5 3.5 0.5", "miss"},
+        /* Starting inside the floor. */
+        {"ray 1.5 2.5 3.5 2.5", "h 0 0 0"},
+        /* The same floor by ids, the list split into rows, replaces the map. */
+        {"map 4 3 0,0,0,0 0,0,0,0 1,1,1,1", "ok"},
+        {"resolve aabb 2 1.9 0.3 0.2", "v 0 -0.1"},
+        /* An open map, one cell wide and tall: only the border. */
+        {"map 1 1 EMPTY", "ok"},
+        {"ray 0.5 0.5 0.5 0.9", "miss"},
+        {"ray 0.5 0.5 0.5 1.5", "h 0.5 0 -1"},
+        /* A map line that fails keeps the current map. */
+        {"map 1 1 BOGUS", "e 'BOGUS'"},
+        {"ray 0.5 0.5 0.5 1.5", "h 0.5 0 -1"},
+    };
+    RUN_CASES(cases);
+}
+
+static void test_no_negative_zero(void **state)
+{
+    (void)state;
+    /* CONVEXnn is CONVEXpn mirrored in x; a push straight down out of its bottom face
+     * (0.1 deep) has a mirrored zero x component, which must print as 0, not -0. */
+    run_result r;
+    run_query_text(&r, "tile CONVEXnn circle 0.5 1.1 0.2\npair aabb 0 0 0.1 0.1 aabb 0 0.15 0.1 0.1\n");
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, 2);
+    expect_vec(r.lines[0], 0, 0.1);
+    expect_vec(r.lines[1], 0, -0.05);
+    for (size_t i = 0; i < r.nlines; i++) {
+        char copy[256];
+        snprintf(copy, sizeof copy, "%s", r.lines[i]);
+        for (char *tok = strtok(copy, " "); tok; tok = strtok(NULL, " "))
+            if (strcmp(tok, "-0") == 0) fail_msg("negative zero printed: '%s'", r.lines[i]);
+    }
+    run_free(&r);
+}
+
+/* ---------- errors ---------- */
+
+static void test_error_lines(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        {"# every error is followed by a line that must still be answered", NULL},
+        {"frobnicate 1 2 3", "e 'frobnicate'"},
+        {"tile FULL aabb 0.5 0.1 0.25 0.25", "v 0 -0.35"},
+        {"tile FOO aabb 0.5 0.5 0.1 0.1", "e unknown tile name 'FOO'"},
+        {"tile 34 circle 0.5 0.5 0.1", "e '34'"},
+        {"tile FULL box 0.5 0.5 0.1 0.1", "e 'box'"},
+        {"tile FULL aabb 0.5 0.1 0.25", "e fields"},
+        {"tile FULL circle 0.5 0.1 0.25 0.25", "e fields"},
+        {"tile FULL", "e fields"},
+        {"ray 1 2 3", "e fields"},
+        {"pair aabb 0 0 0.1 0.1", "e fields"},
+        {"pair aabb 0 0 0.1 0.1 circle 0 0 0.1 7", "e fields"},
+        {"resolve circle 1 1 0.1 0.1", "e fields"},
+        {"map 2 1", "e fields"},
+        {"tile 1 circle 0.5 -0.1 0.2", "v 0 -0.1"},
+        {"tile FULL aabb 0.5 abc 0.1 0.1", "e 'abc'"},
+        {"tile FULL aabb 0.5 1.5x 0.1 0.1", "e '1.5x'"},
+        {"pair circle 0 0 0.1 circle 0 0 0,1", "e '0,1'"},
+        {"tile FULL aabb nan 0.5 0.1 0.1", "e 'nan'"},
+        {"tile FULL aabb 0.5 inf 0.1 0.1", "e 'inf'"},
+        {"tile FULL circle -infinity 0.5 0.1", "e '-infinity'"},
+        {"tile FULL circle 1e999 0.5 0.1", "e '1e999'"},
+        {"pair circle 0 0 0.5 circle 0.6 0 0.5", "v -0.4 0"},
+        {"tile FULL aabb 0.5 0.5 -0.1 0.1", "e negative"},
+        {"tile FULL aabb 0.5 0.5 0.1 -0.1", "e negative"},
+        {"pair circle 0 0 -0.001 circle 0 0 0.1", "e negative"},
+        {"tile FULL aabb 0.5 0.5 0.6 0.1", "e half a cell"},
+        {"tile FULL aabb 0.5 0.5 0.1 0.5000001", "e half a cell"},
+        {"tile FULL circle 0.5 0.5 0.51", "e half a cell"},
+        /* Exactly half a cell is allowed. */
+        /* Ways out: down 1 + 0.5 - 0.6 = 0.9, left/right 1.0, up 1.1. */
+        {"tile FULL circle 0.5 0.6 0.5", "v 0 0.9"},
+        {"map 0 1 FULL", "e '0'"},
+        {"map 4097 1 FULL", "e '4097'"},
+        {"map 1 -1 FULL", "e '-1'"},
+        {"map 1.5 1 FULL", "e '1.5'"},
+        {"map 2 2 FULL,FULL,FULL", "e 4"},
+        {"map 2 1 FULL,FULL,FULL", "e 2"},
+        {"map 2 1 FULL,", "e empty"},
+        {"map 2 1 FULL,NOPE", "e 'NOPE'"},
+        {"map 2 1 FULL,34", "e '34'"},
+        {"pair aabb 0 0 0.2 0.2 circle 0.5 0 0.4", "v -0.1 0"},
+        {"   # an indented comment", NULL},
+        {"", NULL},
+        {" \t ", NULL},
+        {"tile FULL aabb 0.5 0.1 0.25 0.25 # a trailing comment", "v 0 -0.35"},
+    };
+    RUN_CASES(cases);
+}
+
+static void test_resolve_and_ray_need_a_map(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        {"resolve aabb 1 1 0.1 0.1", "e map"},
+        {"resolve circle 1 1 0.1", "e map"},
+        {"ray 0.5 0.5 0.5 1.5", "e map"},
+        {"tile FULL aabb 0.5 0.1 0.25 0.25", "v 0 -0.35"},
+        {"map 1 1 FOO", "e 'FOO'"},
+        {"ray 0.5 0.5 0.5 1.5", "e map"},
+        {"map 1 1 EMPTY", "ok"},
+        {"ray 0.5 0.5 0.5 1.5", "h 0.5 0 -1"},
+        {"resolve aabb 0.5 0.5 0.1 0.1", "v 0 0"},
+    };
+    RUN_CASES(cases);
+}
+
+/* ---------- exit status and usage ---------- */
+
+static void test_exit_status(void **state)
+{
+    (void)state;
+    run_result r;
+    /* All fine: 0, one line per non-comment line. */
+    run_query_text(&r, "# fine\n\ntile FULL aabb 0.5 0.1 0.25 0.25\n  \n# x\npair circle 0 0 0.5 circle 0.6 0 0.5\n");
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, 2);
+    run_free(&r);
+    /* Only comments: no output, 0. */
+    run_query_text(&r, "# nothing\n\n");
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, 0);
+    run_free(&r);
+    /* One error among good lines: 1, and every line still answered. */
+    run_query_text(&r, "tile FULL aabb 0.5 0.1 0.25 0.25\nbogus\ntile FULL aabb 0.5 0.1 0.25 0.25\n");
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 3);
+    expect_error(r.lines[1], 2, "'bogus'");
+    expect_vec(r.lines[2], 0, -0.35);
+    run_free(&r);
+}
+
+static void test_usage_errors(void **state)
+{
+    (void)state;
+    run_result r;
+    const char *ok_file = write_text("tile FULL aabb 0.5 0.1 0.25 0.25\n");
+    char missing[4200];
+    snprintf(missing, sizeof missing, "%s/does-not-exist.query", g_dir);
+
+    const char *a1[] = {"query", ok_file, ok_file, NULL};
+    run_cli(&r, NULL, a1);
+    assert_int_equal(r.status, 2);
+    assert_int_equal(r.out_len, 0);
+    assert_true(r.err_len > 0);
+    run_free(&r);
+
+    const char *a2[] = {"query", missing, NULL};
+    run_cli(&r, NULL, a2);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "does-not-exist"));
+    run_free(&r);
+
+    const char *a3[] = {"query", g_dir, NULL}; /* a directory cannot be read */
+    run_cli(&r, NULL, a3);
+    assert_int_equal(r.status, 2);
+    assert_true(r.err_len > 0);
+    run_free(&r);
+
+    const char *a4[] = {"query", "--bogus", ok_file, NULL};
+    run_cli(&r, NULL, a4);
+    assert_int_equal(r.status, 2);
+    run_free(&r);
+
+    const char *a5[] = {"query", "--max-line", "0", ok_file, NULL};
+    run_cli(&r, NULL, a5);
+    assert_int_equal(r.status, 2);
+    run_free(&r);
+
+    const char *a6[] = {"frobnicate", NULL};
+    run_cli(&r, NULL, a6);
+    assert_int_equal(r.status, 2);
+    assert_int_equal(r.out_len, 0);
+    assert_non_null(strstr(r.err, "frobnicate"));
+    assert_non_null(strstr(r.err, "query"));
+    assert_non_null(strstr(r.err, "bench"));
+    run_free(&r);
+
+    const char *a7[] = {"bench", "nosuch", NULL};
+    run_cli(&r, NULL, a7);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "nosuch"));
+    assert_non_null(strstr(r.err, "narrow")); /* the list of known benchmarks */
+    run_free(&r);
+
+    const char *a8[] = {"bench", NULL};
+    run_cli(&r, NULL, a8);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "narrow"));
+    run_free(&r);
+
+    /* Help: usage on stdout, status 0, with or without the word. */
+    const char *helps[][2] = {{"--help", NULL}, {"help", NULL}, {"-h", NULL}, {NULL, NULL}};
+    for (size_t i = 0; i < sizeof helps / sizeof helps[0]; i++) {
+        run_cli(&r, NULL, helps[i]);
+        assert_int_equal(r.status, 0);
+        if (!strstr(r.out, "ntile query") || !strstr(r.out, "ntile bench"))
+            fail_msg("help %zu: no usage text on stdout: '%s'", i, r.out);
+        run_free(&r);
+    }
+}
+
+/* ---------- input forms ---------- */
+
+static void test_stdin(void **state)
+{
+    (void)state;
+    const char *in = write_text("tile FULL aabb 0.5 0.1 0.25 0.25\nbogus\n");
+    const char *forms[][3] = {{"query", NULL, NULL}, {"query", "-", NULL}};
+    for (size_t i = 0; i < 2; i++) {
+        run_result r;
+        run_cli(&r, in, forms[i]);
+        assert_int_equal(r.status, 1);
+        assert_int_equal(r.nlines, 2);
+        expect_vec(r.lines[0], 0, -0.35);
+        expect_error(r.lines[1], 2, "'bogus'");
+        run_free(&r);
+    }
+}
+
+/* Read one line from a pipe, waiting at most 10 s for it. */
+static void read_answer(int fd, char *buf, size_t cap)
+{
+    size_t n = 0;
+    while (n + 1 < cap) {
+        struct pollfd p = {fd, POLLIN, 0};
+        int ready = poll(&p, 1, 10000);
+        if (ready == 0) fail_msg("no answer within 10 s (got '%.*s'): is the output flushed?", (int)n, buf);
+        assert_true(ready > 0);
+        ssize_t k = read(fd, buf + n, 1);
+        assert_true(k == 1);
+        if (buf[n] == '\n') break;
+        n++;
+    }
+    buf[n] = '\0';
+}
+
+static void test_pipe_dialogue(void **state)
+{
+    (void)state;
+    /* A program drives the CLI through pipes: each answer arrives before the next
+     * question is written and before standard input is closed. */
+    const char *exe = ntile_path();
+    int to_cli[2], from_cli[2];
+    assert_int_equal(pipe(to_cli), 0);
+    assert_int_equal(pipe(from_cli), 0);
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (dup2(to_cli[0], 0) < 0 || dup2(from_cli[1], 1) < 0) _exit(125);
+        close(to_cli[0]);
+        close(to_cli[1]);
+        close(from_cli[0]);
+        close(from_cli[1]);
+        execl(exe, exe, "query", (char *)NULL);
+        _exit(126);
+    }
+    close(to_cli[0]);
+    close(from_cli[1]);
+    void (*old_pipe)(int) = signal(SIGPIPE, SIG_IGN);
+    static const char *const questions[] = {"tile FULL aabb 0.5 0.1 0.25 0.25\n", "# no answer\nbogus\n",
+                                            FLOOR_MAP "\n", "ray 0.5 0.5 0.5 2.5\n"};
+    char answer[256];
+    for (size_t i = 0; i < sizeof questions / sizeof questions[0]; i++) {
+        size_t len = strlen(questions[i]);
+        assert_int_equal(write(to_cli[1], questions[i], len), (ssize_t)len);
+        read_answer(from_cli[0], answer, sizeof answer);
+        if (i == 0) expect_vec(answer, 0, -0.35);
+        if (i == 1) expect_error(answer, 3, "'bogus'");
+        if (i == 2) assert_string_equal(answer, "ok");
+        if (i == 3) expect_hit(answer, 0.75, 0, -1);
+    }
+    close(to_cli[1]);
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
+    signal(SIGPIPE, old_pipe);
+    close(from_cli[0]);
+    assert_true(WIFEXITED(ws));
+    assert_int_equal(WEXITSTATUS(ws), 1);
+}
+
+static void test_crlf_and_last_line(void **state)
+{
+    (void)state;
+    run_result r;
+    run_query_text(&r, "# crlf\r\n\r\ntile FULL aabb 0.5 0.1 0.25 0.25\r\n" FLOOR_MAP "\r\n"
+                       "ray 0.5 0.5 0.5 2.5\r\nresolve circle 2 1.8 0.3");
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, 4);
+    expect_vec(r.lines[0], 0, -0.35);
+    assert_string_equal(r.lines[1], "ok");
+    expect_hit(r.lines[2], 0.75, 0, -1);
+    expect_vec(r.lines[3], 0, -0.1);
+    run_free(&r);
+    /* A final line without a newline, and one ending in a lone CR. */
+    run_query_text(&r, "tile FULL circle 0.5 -0.1 0.2\ntile FULL circle 0.5 -0.1 0.2\r");
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, 2);
+    expect_vec(r.lines[1], 0, -0.1);
+    run_free(&r);
+}
+
+static void test_long_lines(void **state)
+{
+    (void)state;
+    run_result r;
+    /* A valid 256 x 256 map on one line of about 400 KB: empty but the bottom row. */
+    const int side = 256;
+    size_t cap = (size_t)side * side * 7 + 64;
+    char *text = malloc(cap + 256);
+    assert_non_null(text);
+    size_t n = (size_t)sprintf(text, "map %d %d ", side, side);
+    for (int i = 0; i < side * side; i++) {
+        const char *name = i >= side * (side - 1) ? "FULL" : "EMPTY";
+        n += (size_t)sprintf(text + n, "%s%s", i ? "," : "", name);
+    }
+    /* Box 0.1 into the floor at y = 255; then a garbage line of 2 MB. */
+    n += (size_t)sprintf(text + n, "\nresolve aabb 100 254.85 0.25 0.25\n");
+    assert_true(n < cap);
+    char *big = malloc(n + (2u << 20) + 64);
+    assert_non_null(big);
+    memcpy(big, text, n);
+    memset(big + n, 'x', 2u << 20);
+    n += 2u << 20;
+    n += (size_t)sprintf(big + n, "\nresolve aabb 100 254.85 0.25 0.25\n");
+    const char *path = write_bytes(big, n);
+    const char *args[] = {"query", path, NULL};
+    run_cli(&r, NULL, args);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 4);
+    assert_string_equal(r.lines[0], "ok");
+    expect_vec(r.lines[1], 0, -0.1);
+    expect_error(r.lines[2], 3, "unknown command");
+    expect_vec(r.lines[3], 0, -0.1);
+    run_free(&r);
+    free(big);
+
+    /* Many fields on one line: one error, not several. */
+    n = (size_t)sprintf(text, "tile FULL aabb");
+    for (int i = 0; i < 100000; i++) n += (size_t)sprintf(text + n, " 1");
+    sprintf(text + n, "\ntile FULL aabb 0.5 0.1 0.25 0.25\n");
+    run_query_text(&r, text);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 2);
+    expect_error(r.lines[0], 1, "fields");
+    expect_vec(r.lines[1], 0, -0.35);
+    run_free(&r);
+
+    /* Over the line limit: one error for the whole line, then the next line answers;
+     * a long comment stays a comment. */
+    n = (size_t)sprintf(text, "tile FULL aabb 0.5 0.1 0.25 0.25%300s\n#%300s\n", "", "");
+    n += (size_t)sprintf(text + n, "%100s\ntile FULL aabb 0.5 0.1 0.25 0.25\n", "tile FULL aabb 0.5 0.1 0.25 0.25");
+    path = write_text(text);
+    const char *limited[] = {"query", "--max-line", "64", path, NULL};
+    run_cli(&r, NULL, limited);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 3);
+    expect_error(r.lines[0], 1, "longer than 64");
+    expect_error(r.lines[1], 3, "longer than 64");
+    expect_vec(r.lines[2], 0, -0.35);
+    run_free(&r);
+
+    /* The limit counts the bytes before the line end: 32 fit, with LF or CR LF; 33 do not. */
+    path = write_text("tile FULL aabb 0.5 0.1 0.25 0.25\n"
+                      "tile FULL aabb 0.5 0.1 0.25 0.25\r\n"
+                      "tile FULL aabb 0.5 0.1 0.25 0.25 \n"
+                      "tile FULL aabb 0.5 0.1 0.25 0.25");
+    const char *exact[] = {"query", "--max-line", "32", path, NULL};
+    run_cli(&r, NULL, exact);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 4);
+    expect_vec(r.lines[0], 0, -0.35);
+    expect_vec(r.lines[1], 0, -0.35);
+    expect_error(r.lines[2], 3, "longer than 32");
+    expect_vec(r.lines[3], 0, -0.35);
+    run_free(&r);
+    free(text);
+}
+
+static void test_nul_bytes(void **state)
+{
+    (void)state;
+    static const char input[] = "tile FULL\0 aabb 0.5 0.1 0.25 0.25\n"
+                                "\0\n"
+                                "# a comment may hold \0 anything\n"
+                                "tile FULL aabb 0.5 0.1 0.25 0.25\n"
+                                "tile FULL aabb 0.5 0.1 0.25 0.25\0";
+    const char *path = write_bytes(input, sizeof input - 1);
+    const char *args[] = {"query", path, NULL};
+    run_result r;
+    run_cli(&r, NULL, args);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 4);
+    expect_error(r.lines[0], 1, "NUL");
+    expect_error(r.lines[1], 2, "NUL");
+    expect_vec(r.lines[2], 0, -0.35);
+    expect_error(r.lines[3], 5, "NUL");
+    run_free(&r);
+}
+
+/* Whitespace as the query reader sees it. */
+static int blank_byte(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+static void test_random_bytes(void **state)
+{
+    (void)state;
+    /* 64 KB of pseudo-random bytes, newlines, blanks and NULs made common: every line that is not
+     * blank or a comment gives exactly one line, and here that is an error. */
+    size_t len = 1u << 16;
+    unsigned char *buf = malloc(len);
+    assert_non_null(buf);
+    uint32_t s = 12345;
+    for (size_t i = 0; i < len; i++) {
+        s = s * 1664525u + 1013904223u;
+        unsigned v = s >> 24;
+        buf[i] = (unsigned char)(v < 8 ? '\n' : v < 24 ? ' ' : v < 28 ? '\0' : v < 30 ? '\r' : v);
+    }
+    /* Expected output lines: the numbers of the lines that are not blank or comments. */
+    unsigned long *expect = malloc(sizeof *expect * (len + 1));
+    assert_non_null(expect);
+    size_t nexpect = 0;
+    unsigned long lineno = 0;
+    for (size_t i = 0; i < len;) {
+        size_t j = i;
+        while (j < len && buf[j] != '\n') j++;
+        lineno++;
+        size_t k = i;
+        while (k < j && blank_byte(buf[k])) k++;
+        if (k < j && buf[k] != '#') expect[nexpect++] = lineno;
+        i = j + 1;
+    }
+    const char *path = write_bytes(buf, len);
+    const char *args[] = {"query", path, NULL};
+    run_result r;
+    run_cli(&r, NULL, args);
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, nexpect);
+    for (size_t i = 0; i < nexpect; i++) expect_error(r.lines[i], expect[i], NULL);
+    run_free(&r);
+    free(expect);
+    free(buf);
+}
+
+static void test_demo_file(void **state)
+{
+    (void)state;
+    const char *demo = "levels/demo.query";
+    FILE *f = fopen(demo, "rb");
+    if (!f) {
+        print_message("%s not found (run from the project root); skipping\n", demo);
+        skip();
+    }
+    size_t want = 0;
+    char line[4096];
+    while (fgets(line, sizeof line, f)) {
+        const char *p = line;
+        while (*p && (blank_byte((unsigned char)*p) || *p == '\n')) p++;
+        want += *p && *p != '#';
+    }
+    fclose(f);
+    const char *args[] = {"query", demo, NULL};
+    run_result r;
+    run_cli(&r, NULL, args);
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, want);
+    for (size_t i = 0; i < r.nlines; i++)
+        if (strncmp(r.lines[i], "error", 5) == 0) fail_msg("demo line answered '%s'", r.lines[i]);
+    run_free(&r);
+}
+
+static void test_bench_narrow(void **state)
+{
+    (void)state;
+    const char *args[] = {"bench", "narrow", "--runs", "1", "--min-ms", "0", NULL};
+    run_result r;
+    run_cli(&r, NULL, args);
+    assert_int_equal(r.status, 0);
+    const char *scalar = NT_REAL_IS_DOUBLE ? "double" : "float";
+    static const char *const kinds[] = {"narrow aabb-vs-tile ", "narrow circle-vs-tile "};
+    for (size_t k = 0; k < 2; k++) {
+        int found = 0;
+        for (size_t i = 0; i < r.nlines; i++) {
+            if (strncmp(r.lines[i], kinds[k], strlen(kinds[k])) != 0 || !strstr(r.lines[i], "median")) continue;
+            double ns = strtod(r.lines[i] + strlen(kinds[k]), NULL);
+            assert_true(ns > 0 && ns < 1e6);
+            assert_non_null(strstr(r.lines[i], "ns/test"));
+            assert_non_null(strstr(r.lines[i], scalar));
+            found = 1;
+        }
+        if (!found) fail_msg("no '%s... median' line in:\n%s", kinds[k], r.out);
+    }
+    run_free(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tile_answers),
+        cmocka_unit_test(test_pair_answers),
+        cmocka_unit_test(test_map_resolve_and_ray),
+        cmocka_unit_test(test_no_negative_zero),
+        cmocka_unit_test(test_error_lines),
+        cmocka_unit_test(test_resolve_and_ray_need_a_map),
+        cmocka_unit_test(test_exit_status),
+        cmocka_unit_test(test_usage_errors),
+        cmocka_unit_test(test_stdin),
+        cmocka_unit_test(test_pipe_dialogue),
+        cmocka_unit_test(test_crlf_and_last_line),
+        cmocka_unit_test(test_long_lines),
+        cmocka_unit_test(test_nul_bytes),
+        cmocka_unit_test(test_random_bytes),
+        cmocka_unit_test(test_demo_file),
+        cmocka_unit_test(test_bench_narrow),
+    };
+    return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
