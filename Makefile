@@ -51,6 +51,8 @@ TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
 .PHONY: all lib cli test asan run clean deps-cc deps-test
 .DEFAULT_GOAL := all
+# Keep objects of tests (make would delete them as intermediates).
+.SECONDARY:
 
 all: lib cli
 lib: $(BUILD)/libntile.a $(BUILD)/libntile.so
