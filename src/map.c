@@ -147,10 +147,11 @@ nt_edge nt_map_get_edge(const nt_map *map, int x, int y, nt_side side)
  * Work in cell units. The object overlaps at most 2 x 2 cells. Each overlapped
  * tile gives its exact minimum translation with the seam faces masked (a push
  * through a face that the neighbour covers only enters the neighbour). The answer
- * is the shortest candidate that frees the object from every tile; candidates are
- * the single-tile pushes and, for corners, the intersection of two tiles' push
- * planes. What no candidate frees (rare: deep or tight spots) is freed by
- * repeated projection and, last, by a search over directions.
+ * is the shortest candidate that frees the object from every tile; a candidate no
+ * longer than the deepest single-tile overlap is provably optimal. Otherwise the
+ * boundary curves within reach are enumerated exactly (enumerate() below); deep
+ * spots with no way out within reach fall back to a search over directions and,
+ * last, to the nearest empty cell (escape()).
  * ------------------------------------------------------------------------------ */
 
 typedef struct cand {
