@@ -25,13 +25,16 @@ DEFS :=
 ifneq ($(NT_DOUBLE),0)
 DEFS += -DNT_DOUBLE
 endif
-CFLAGS_ALL := -std=c11 $(OPT) $(SAN) $(WARN) -ffp-contract=off -fPIC -Iinclude $(DEFS) $(CFLAGS)
+# -fno-semantic-interposition: the library's own calls may be inlined although it
+# is built position-independent (nobody interposes ntile's symbols).
+CFLAGS_ALL := -std=c11 $(OPT) $(SAN) $(WARN) -ffp-contract=off -fPIC -fno-semantic-interposition \
+              -Iinclude $(DEFS) $(CFLAGS)
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
 LIBS := -lm
 
 # Objects live in a directory per configuration; linked artefacts are rebuilt
 # whenever the configuration changes (build/.config holds the last one).
-CONFIG := $(CC) $(OPT) $(SAN) NT_DOUBLE=$(NT_DOUBLE) CI=$(CI) $(CFLAGS)
+CONFIG := $(CC) $(CFLAGS_ALL) $(LDFLAGS_ALL)
 CONFIG_ID := $(shell printf '%s' '$(CONFIG)' | cksum | cut -d' ' -f1)
 OBJ := $(BUILD)/obj/$(CONFIG_ID)
 STAMP := $(BUILD)/.config

@@ -14,37 +14,51 @@
 
 #define SIDE_BIT(s) (1u << (s))
 
-typedef struct best {
-    nt_real depth;
-    nt_real nx, ny;
-    int found;
-} best;
+/* Candidate pushes, chosen without branches: on random placements every "is this
+ * one shorter" comparison is unpredictable, so the minimum is taken with
+ * conditional moves over a small list. A masked candidate has depth NT_REAL_MAX and
+ * is never chosen; ties keep the first candidate listed. */
+typedef struct cands {
+    nt_real d[8], nx[8], ny[8];
+    int n;
+} cands;
 
-static inline void best_init(best *b)
+static inline void cand(cands *k, nt_real depth, nt_real nx, nt_real ny)
 {
-    b->depth = NT_REAL_MAX;
-    b->nx = 0;
-    b->ny = 0;
-    b->found = 0;
+    k->d[k->n] = depth;
+    k->nx[k->n] = nx;
+    k->ny[k->n] = ny;
+    k->n++;
 }
 
-/* Keeps the first of equal candidates: callers list them in a fixed order. */
-static inline void consider(best *b, nt_real depth, nt_real nx, nt_real ny)
+/* Masked unless `open`. */
+static inline void cand_if(cands *k, int open, nt_real depth, nt_real nx, nt_real ny)
 {
-    if (depth < b->depth) {
-        b->depth = depth;
-        b->nx = nx;
-        b->ny = ny;
-        b->found = 1;
+    cand(k, open ? depth : NT_REAL_MAX, nx, ny);
+}
+
+static inline int pick(const cands *k, int sx_flip, int sy_flip, nt_mtv *out)
+{
+    nt_real bd = k->d[0];
+    int bi = 0;
+    for (int i = 1; i < k->n; i++) {
+        int better = k->d[i] < bd;
+        bd = better ? k->d[i] : bd;
+        bi = better ? i : bi;
     }
+    if (bd == NT_REAL_MAX) return NT__MASKED;
+    out->normal.x = sx_flip ? -k->nx[bi] : k->nx[bi];
+    out->normal.y = sy_flip ? -k->ny[bi] : k->ny[bi];
+    out->depth = bd;
+    return NT__PUSH;
 }
 
-static inline int finish(const best *b, int sx_flip, int sy_flip, nt_mtv *out)
+/* A single push, mirrored back from the canonical frame. */
+static inline int push_out(nt_real depth, nt_real nx, nt_real ny, int sx_flip, int sy_flip, nt_mtv *out)
 {
-    if (!b->found) return NT__MASKED;
-    out->normal.x = sx_flip ? -b->nx : b->nx;
-    out->normal.y = sy_flip ? -b->ny : b->ny;
-    out->depth = b->depth;
+    out->normal.x = sx_flip ? -nx : nx;
+    out->normal.y = sy_flip ? -ny : ny;
+    out->depth = depth;
     return NT__PUSH;
 }
 
@@ -61,82 +75,83 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
     nt_real du = c.y + h.y - t->bounds_min.y; /* move -y */
     nt_real dd = t->bounds_max.y - (c.y - h.y); /* move +y */
     if (dl <= 0 || dr <= 0 || du <= 0 || dd <= 0) return NT__SEPARATE;
-    best b;
-    best_init(&b);
+    cands q;
+    q.n = 0;
     if (g->has_slope) {
         /* Decide with the integer normal (exact at touching), measure with the unit one. */
         nt_real ux = g->slope[0], uy = g->slope[1];
         nt_real ds = g->slope[2] - (ux * c.x + uy * c.y) + h.x * nt__fabs(ux) + h.y * nt__fabs(uy);
         if (ds <= 0) return NT__SEPARATE;
-        consider(&b, ds * g->slope[3], g->slope[4], g->slope[5]);
+        cand(&q, ds * g->slope[3], g->slope[4], g->slope[5]);
     }
-    if (!(mask & SIDE_BIT(NT_SIDE_TOP))) consider(&b, du, 0, -1);
-    if (!(mask & SIDE_BIT(NT_SIDE_BOTTOM))) consider(&b, dd, 0, 1);
-    if (!(mask & SIDE_BIT(NT_SIDE_LEFT))) consider(&b, dl, -1, 0);
-    if (!(mask & SIDE_BIT(NT_SIDE_RIGHT))) consider(&b, dr, 1, 0);
-    return finish(&b, 0, 0, out);
+    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_TOP)), du, 0, -1);
+    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_BOTTOM)), dd, 0, 1);
+    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_LEFT)), dl, -1, 0);
+    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_RIGHT)), dr, 1, 0);
+    return pick(&q, 0, 0, out);
 }
 
 /* ---------- circle vs convex polygon ----------
- * Centre inside: leave through the nearest face (distance + r). Centre outside: the
- * nearest point p of the polygon; push along c - p by r - |c - p|. */
+ * Every polygon tile is its bounds box B, cut by the slope's half-plane H when it has
+ * one. Centre inside: leave through the nearest
+ * face (distance + r); B's faces that are only a vertex of the tile never win, the
+ * slope being nearer along that direction. Centre outside: the nearest point p of
+ * B n H is clamp(c, B) when that lies in H, and otherwise the nearest point of the
+ * slope segment (the constraint H is then active). Push along c - p by r - |c - p|,
+ * with the face's exact normal and distance when p is inside a face (a masked face
+ * then gives no push). */
 static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
+    const nt_tile_info *t = &nt__tiles[tile];
     const nt__tile_geom *g = &nt__geom[tile];
-    nt_real s[4]; /* signed distance to each edge's line; the sign is exact */
-    nt_real smax = -NT_REAL_MAX;
-    for (int i = 0; i < g->edge_count; i++) {
-        const nt__edge *e = &g->edges[i];
-        s[i] = (e->ux * c.x + e->uy * c.y - e->ud) * e->inv;
-        if (s[i] > smax) smax = s[i];
+    nt_real x0 = t->bounds_min.x, y0 = t->bounds_min.y, x1 = t->bounds_max.x, y1 = t->bounds_max.y;
+    /* Signed distances outside B's faces (exact: the bounds are dyadic) and H. */
+    nt_real sl = x0 - c.x, sr = c.x - x1, st = y0 - c.y, sb = c.y - y1;
+    nt_real smax = nt__max(nt__max(sl, sr), nt__max(st, sb));
+    nt_real ss = -NT_REAL_MAX;
+    if (g->has_slope) {
+        ss = (g->slope[0] * c.x + g->slope[1] * c.y - g->slope[2]) * g->slope[3];
+        smax = nt__max(smax, ss);
     }
-    if (smax >= r) return NT__SEPARATE;
-    best b;
-    best_init(&b);
-    if (smax < 0 || (smax == 0 && r > 0)) {
-        for (int i = 0; i < g->edge_count; i++) {
-            const nt__edge *e = &g->edges[i];
-            if (e->side >= 0 && (mask & SIDE_BIT(e->side))) continue;
-            consider(&b, r - s[i], e->nx, e->ny);
-        }
-        return finish(&b, 0, 0, out);
+    if (smax >= r) return NT__SEPARATE; /* also a point (r = 0) on the boundary */
+    /* A face of B is maskable only where it lies on the cell's side. */
+    int open_l = !(x0 == 0 && (mask & SIDE_BIT(NT_SIDE_LEFT)));
+    int open_r = !(x1 == 1 && (mask & SIDE_BIT(NT_SIDE_RIGHT)));
+    int open_t = !(y0 == 0 && (mask & SIDE_BIT(NT_SIDE_TOP)));
+    int open_b = !(y1 == 1 && (mask & SIDE_BIT(NT_SIDE_BOTTOM)));
+    if (smax <= 0) {
+        cands q;
+        q.n = 0;
+        if (g->has_slope) cand(&q, r - ss, g->slope[4], g->slope[5]);
+        cand_if(&q, open_t, r - st, 0, -1);
+        cand_if(&q, open_b, r - sb, 0, 1);
+        cand_if(&q, open_l, r - sl, -1, 0);
+        cand_if(&q, open_r, r - sr, 1, 0);
+        return pick(&q, 0, 0, out);
     }
-    if (smax == 0) return NT__SEPARATE; /* a point on the boundary */
-    /* Outside: nearest point among the faces the centre sees. */
-    nt_real best_d2 = NT_REAL_MAX, vx = 0, vy = 0;
-    int face = -1;
-    for (int i = 0; i < g->edge_count; i++) {
-        if (s[i] <= 0) continue;
-        const nt__edge *e = &g->edges[i];
+    nt_real px = nt__clamp(c.x, x0, x1), py = nt__clamp(c.y, y0, y1);
+    if (g->has_slope && g->slope[0] * px + g->slope[1] * py > g->slope[2]) {
+        const nt__edge *e = g->edges;
+        while (e->side >= 0) e++; /* the slope: the one edge on no cell side */
         nt_real u = (c.x - e->ax) * e->tx + (c.y - e->ay) * e->ty;
-        if (u > 0 && u < e->len) {
-            nt_real d2 = s[i] * s[i];
-            if (d2 < best_d2) {
-                best_d2 = d2;
-                face = i;
-            }
-        } else {
-            nt_real px = u <= 0 ? e->ax : e->ax + e->tx * e->len;
-            nt_real py = u <= 0 ? e->ay : e->ay + e->ty * e->len;
-            nt_real dx = c.x - px, dy = c.y - py, d2 = dx * dx + dy * dy;
-            if (d2 < best_d2) {
-                best_d2 = d2;
-                face = -1;
-                vx = dx;
-                vy = dy;
-            }
+        if (u > 0 && u < e->len) return push_out(r - ss, e->nx, e->ny, 0, 0, out);
+        nt_real uc = u <= 0 ? 0 : e->len;
+        px = e->ax + e->tx * uc;
+        py = e->ay + e->ty * uc;
+    } else if ((px == c.x) != (py == c.y)) {
+        /* Inside one face's slab: the nearest point is on that face. */
+        int horiz = px == c.x; /* the nearest face is horizontal (top or bottom) */
+        if (horiz) {
+            if (!(st > 0 ? open_t : open_b)) return NT__MASKED;
+            return push_out(r - nt__max(st, sb), 0, st > 0 ? R(-1) : R(1), 0, 0, out);
         }
+        if (!(sl > 0 ? open_l : open_r)) return NT__MASKED;
+        return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);
     }
-    if (face >= 0) {
-        const nt__edge *e = &g->edges[face];
-        if (e->side >= 0 && (mask & SIDE_BIT(e->side))) return NT__MASKED;
-        consider(&b, r - s[face], e->nx, e->ny);
-        return finish(&b, 0, 0, out);
-    }
-    nt_real dist = nt__sqrt(best_d2);
+    nt_real vx = c.x - px, vy = c.y - py;
+    nt_real dist = nt__sqrt(vx * vx + vy * vy);
     if (dist >= r) return NT__SEPARATE;
-    consider(&b, r - dist, vx / dist, vy / dist);
-    return finish(&b, 0, 0, out);
+    return push_out(r - dist, vx / dist, vy / dist, 0, 0, out);
 }
 
 /* Canonical frame of a round tile: its `pn` orientation. */
@@ -169,20 +184,19 @@ static int aabb_convex(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *ou
     nt_real dl = k.x + h.x, dr = 1 + h.x - k.x;
     nt_real du = k.y + h.y, dd = 1 + h.y - k.y;
     if (dl <= 0 || dr <= 0 || du <= 0 || dd <= 0) return NT__SEPARATE;
-    best b;
-    best_init(&b);
     nt_real vx = k.x - h.x, vy = k.y - (1 - h.y);
-    if (vx > 0 && vy < 0) {
-        nt_real d2 = vx * vx + vy * vy;
-        if (d2 >= 1) return NT__SEPARATE;
-        nt_real dist = nt__sqrt(d2);
-        consider(&b, 1 - dist, vx / dist, vy / dist);
-    }
-    consider(&b, du, 0, -1);
-    if (!k.mbottom) consider(&b, dd, 0, 1);
-    if (!k.mleft) consider(&b, dl, -1, 0);
-    consider(&b, dr, 1, 0);
-    return finish(&b, k.fx, k.fy, out);
+    int arc = vx > 0 && vy < 0;
+    nt_real d2 = vx * vx + vy * vy;
+    if (arc && d2 >= 1) return NT__SEPARATE;
+    nt_real dist = arc ? nt__sqrt(d2) : 1;
+    cands q;
+    q.n = 0;
+    cand_if(&q, arc, 1 - dist, vx / dist, vy / dist);
+    cand(&q, du, 0, -1);
+    cand_if(&q, !k.mbottom, dd, 0, 1);
+    cand_if(&q, !k.mleft, dl, -1, 0);
+    cand(&q, dr, 1, 0);
+    return pick(&q, k.fx, k.fy, out);
 }
 
 /* ---------- circle vs CONVEX ----------
@@ -192,8 +206,6 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
 {
     canon k = to_canon(tile, c, mask);
     nt_real x = k.x, y = k.y;
-    best b;
-    best_init(&b);
     if (x >= 0 && y <= 1) {
         nt_real vx = x, vy = y - 1;
         nt_real d2 = vx * vx + vy * vy;
@@ -202,23 +214,24 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
             /* Centre in the closed quarter disc. */
             int interior = x > 0 && y < 1 && d2 < 1;
             if (!interior && r == 0) return NT__SEPARATE;
-            if (dist > 0) consider(&b, 1 - dist + r, vx / dist, vy / dist);
-            if (!k.mbottom) consider(&b, 1 - y + r, 0, 1);
-            if (!k.mleft) consider(&b, x + r, -1, 0);
-            return finish(&b, k.fx, k.fy, out);
+            nt_real dd = dist > 0 ? dist : 1;
+            cands q;
+            q.n = 0;
+            cand_if(&q, dist > 0, 1 - dist + r, vx / dd, vy / dd);
+            cand_if(&q, !k.mbottom, 1 - y + r, 0, 1);
+            cand_if(&q, !k.mleft, x + r, -1, 0);
+            return pick(&q, k.fx, k.fy, out);
         }
         nt_real gap = dist - 1;
         if (gap >= r) return NT__SEPARATE;
-        consider(&b, r - gap, vx / dist, vy / dist);
-        return finish(&b, k.fx, k.fy, out);
+        return push_out(r - gap, vx / dist, vy / dist, k.fx, k.fy, out);
     }
     nt_real px, py; /* nearest point when it is a corner */
     if (x < 0 && y <= 1) {
         if (y >= 0) {
             if (-x >= r) return NT__SEPARATE;
             if (k.mleft) return NT__MASKED;
-            consider(&b, r + x, -1, 0);
-            return finish(&b, k.fx, k.fy, out);
+            return push_out(r + x, -1, 0, k.fx, k.fy, out);
         }
         px = 0;
         py = 0;
@@ -226,8 +239,7 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
         if (x <= 1) {
             if (y - 1 >= r) return NT__SEPARATE;
             if (k.mbottom) return NT__MASKED;
-            consider(&b, r - (y - 1), 0, 1);
-            return finish(&b, k.fx, k.fy, out);
+            return push_out(r - (y - 1), 0, 1, k.fx, k.fy, out);
         }
         px = 1;
         py = 1;
@@ -238,8 +250,7 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
     nt_real vx = x - px, vy = y - py;
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
     if (dist >= r) return NT__SEPARATE;
-    consider(&b, r - dist, vx / dist, vy / dist);
-    return finish(&b, k.fx, k.fy, out);
+    return push_out(r - dist, vx / dist, vy / dist, k.fx, k.fy, out);
 }
 
 /* ---------- box vs CONCAVE (cell minus the disc of radius 1 around o = (1,0)) ----------
@@ -260,24 +271,24 @@ static int aabb_concave(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
     nt_real d2 = ox * ox + oy * oy;
     if (d2 <= 1) return NT__SEPARATE;
     nt_real dist = nt__sqrt(d2);
-    best b;
-    best_init(&b);
-    consider(&b, dist - 1, ox / dist, oy / dist);
-    consider(&b, du, 0, -1);
-    if (!k.mbottom) consider(&b, dd, 0, 1);
-    if (!k.mleft) consider(&b, dl, -1, 0);
-    consider(&b, dr, 1, 0);
-    return finish(&b, k.fx, k.fy, out);
+    cands q;
+    q.n = 0;
+    cand(&q, dist - 1, ox / dist, oy / dist);
+    cand(&q, du, 0, -1);
+    cand_if(&q, !k.mbottom, dd, 0, 1);
+    cand_if(&q, !k.mleft, dl, -1, 0);
+    cand(&q, dr, 1, 0);
+    return pick(&q, k.fx, k.fy, out);
 }
 
 /* Push toward the point v + r * unit(c - v) on the circle of radius r around v. */
-static inline void consider_vertex(best *b, nt_real x, nt_real y, nt_real vx, nt_real vy, nt_real r)
+static inline void cand_vertex(cands *q, nt_real x, nt_real y, nt_real vx, nt_real vy, nt_real r)
 {
     nt_real dx = x - vx, dy = y - vy;
     nt_real d = nt__sqrt(dx * dx + dy * dy);
     if (d <= 0) return; /* the neighbouring pieces give the same depth */
-    if (d < r) consider(b, r - d, dx / d, dy / d);
-    else consider(b, d - r, -dx / d, -dy / d);
+    if (d < r) cand(q, r - d, dx / d, dy / d);
+    else cand(q, d - r, -dx / d, -dy / d);
 }
 
 /* ---------- circle vs CONCAVE ----------
@@ -311,17 +322,18 @@ static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
         if (x <= 1 && y >= 0) gap = nt__min(gap, nt__fabs(dist_o - 1)); /* the arc */
         if (gap >= r) return NT__SEPARATE;
     }
-    best b;
-    best_init(&b);
-    if (dist_o > 0) consider(&b, dist_o - (1 - r), -ox / dist_o, -oy / dist_o);
-    consider(&b, y + r, 0, -1);
-    if (!k.mbottom) consider(&b, 1 + r - y, 0, 1);
-    if (!k.mleft) consider(&b, x + r, -1, 0);
-    consider(&b, 1 + r - x, 1, 0);
-    if (y <= 0) consider_vertex(&b, x, y, 0, 0, r);
-    if (x >= 1) consider_vertex(&b, x, y, 1, 1, r);
-    if (x <= 0 && y >= 1) consider_vertex(&b, x, y, 0, 1, r);
-    return finish(&b, k.fx, k.fy, out);
+    nt_real so = dist_o > 0 ? dist_o : 1;
+    cands q;
+    q.n = 0;
+    cand_if(&q, dist_o > 0, dist_o - (1 - r), -ox / so, -oy / so);
+    cand(&q, y + r, 0, -1);
+    cand_if(&q, !k.mbottom, 1 + r - y, 0, 1);
+    cand_if(&q, !k.mleft, x + r, -1, 0);
+    cand(&q, 1 + r - x, 1, 0);
+    if (y <= 0) cand_vertex(&q, x, y, 0, 0, r);
+    if (x >= 1) cand_vertex(&q, x, y, 1, 1, r);
+    if (x <= 0 && y >= 1) cand_vertex(&q, x, y, 0, 1, r);
+    return pick(&q, k.fx, k.fy, out);
 }
 
 int nt__collide_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out)
@@ -346,20 +358,18 @@ int nt__collide_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_
     }
 }
 
+/* The masked routines write *out only when they push, so a caller's NULL can be
+ * swapped for a scratch result without a copy. */
 bool nt_collide_tile_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out)
 {
-    nt_mtv m;
-    if (nt__collide_tile_aabb_m(tile, center, half, 0, &m) != NT__PUSH) return false;
-    if (out) *out = m;
-    return true;
+    nt_mtv scratch;
+    return nt__collide_tile_aabb_m(tile, center, half, 0, out ? out : &scratch) == NT__PUSH;
 }
 
 bool nt_collide_tile_circle(int tile, nt_vec2 center, nt_real radius, nt_mtv *out)
 {
-    nt_mtv m;
-    if (nt__collide_tile_circle_m(tile, center, radius, 0, &m) != NT__PUSH) return false;
-    if (out) *out = m;
-    return true;
+    nt_mtv scratch;
+    return nt__collide_tile_circle_m(tile, center, radius, 0, out ? out : &scratch) == NT__PUSH;
 }
 
 bool nt_collide_tile_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out)
