@@ -52,7 +52,7 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan run clean deps-cc deps-test
+.PHONY: all lib cli test asan determinism run clean deps-cc deps-test
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -103,6 +103,19 @@ BUILD_ASAN ?= build/asan
 asan:
 	@$(MAKE) --no-print-directory BUILD=$(BUILD_ASAN) OPT="-O1 -g" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" test
+
+# The golden world hash must come out of gcc and clang at -O0, -O2 and -O3, in both
+# scalar builds: test_world pins it (test_determinism_and_golden_hash).
+DET_CCS ?= gcc clang
+DET_OPTS ?= -O0 -O2 -O3
+determinism:
+	@set -e; for cc in $(DET_CCS); do for o in $(DET_OPTS); do for d in 0 1; do \
+	  b=build/det/$$cc$$o-$$d; \
+	  $(MAKE) --no-print-directory -s BUILD=$$b CC=$$cc OPT=$$o NT_DOUBLE=$$d $$b/tests/test_world >/dev/null; \
+	  printf '%-6s %-4s %-6s ' $$cc $$o $$( [ $$d = 1 ] && echo double || echo float ); \
+	  $$b/tests/test_world 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/test_world; exit 1; }; \
+	  $$b/tests/test_world 2>&1 | grep 'golden hash'; \
+	done; done; done
 
 run: $(BUILD)/ntile
 	$(BUILD)/ntile query levels/demo.query

@@ -116,3 +116,167 @@ static inline int nt__floor_int(nt_real v)
 }
 
 #endif /* NT_CORE_H */
+
+/* ==== world simulation internals (world.c, response.c, grid.c) ==== */
+#ifndef NT_CORE_WORLD_INTERNALS
+#define NT_CORE_WORLD_INTERNALS
+#include "ntile/world.h"
+
+enum {
+    NT__BF_SENSOR = 1,     /* is_sensor */
+    NT__BF_SLEEP_OK = 2,   /* enable_sleep */
+    NT__BF_HITS = 4,       /* enable_hit_events */
+    NT__BF_ALIVE = 8,
+    NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
+    NT__BF_MOVED = 32      /* scratch: moved by position correction */
+};
+enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
+/* Contact flags: which side is a sensor; touching = overlapping or closer than the
+ * skin (else a near contact, solved but not reported). */
+enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4 };
+/* Body pairs closer than this (in cells) are solved, so that resting contacts never
+ * come and go; only overlapping ones count as touching (events, sensors). */
+#define NT__CONTACT_MARGIN R(0.05)
+
+/* A tile surface a body touches; kept between steps for the resting-contact solve. */
+typedef struct nt__tile_ct {
+    nt_vec2 n;          /* unit normal, out of the tile */
+    nt_real depth;      /* at detection, world units */
+    nt_real lambda;     /* normal velocity change applied this step */
+    int32_t cx, cy;     /* the tile's cell */
+    uint8_t material;
+    uint8_t solved;     /* friction already applied for this surface this step */
+} nt__tile_ct;
+
+/* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold. */
+typedef struct nt__body {
+    /* What the pair search reads of a neighbour comes first (one cache line). */
+    nt_vec2 p, half;
+    int32_t gnext;             /* broad phase: next body in the cell's list */
+    uint32_t category, mask;
+    uint8_t type, shape, flags, ntc;
+    nt_vec2 v;
+    int32_t gcell, gprev;      /* broad phase: list head index (-1 = not in the grid), previous */
+    nt_real inv_mass, gravity_scale, drag, friction, bounce, sleep_time;
+    uint32_t generation;
+    int32_t awake_slot;        /* index in world->awake, -1 when not simulated */
+    int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
+    uint8_t glist;             /* NT__LIST_* */
+    nt__tile_ct tc[2];
+} nt__body;
+
+typedef struct nt__body_cold {
+    void *user_data;
+    nt_real mass;
+    int32_t cprev, cnext;      /* creation order */
+} nt__body_cold;
+
+/* A body pair whose shapes overlap (or a sensor and a visitor). a < b by slot. */
+typedef struct nt__contact {
+    uint64_t key;              /* (a << 32) | b */
+    uint32_t gen_a, gen_b;
+    nt_vec2 n;                 /* from a towards b */
+    nt_real depth;
+    nt_real ln, lt;            /* accumulated normal / tangent impulses (warm start) */
+    nt_real friction, bounce, bias, meff;
+    uint32_t flags;
+} nt__contact;
+
+struct nt_world {
+    nt_map *map;               /* every tile */
+    nt_map *solid;             /* the tiles minus one-way cells; NULL while no cell is one-way */
+    uint8_t *cell_mat, *cell_flags; /* per cell; NULL until first set */
+    int oneway_count;
+    nt_material materials[NT_MAX_MATERIALS];
+    nt_world_def def;
+    nt_real cell, inv_cell, prev_dt;
+
+    nt__body *bodies;
+    nt__body_cold *cold;
+    int32_t *awake;            /* simulated bodies (awake dynamic + kinematic) */
+    int32_t *scratch_a;        /* per-body scratch (union-find, lists) */
+    nt_real *scratch_r;        /* 2 per body */
+    int body_cap, body_hwm, body_count, awake_count, free_head;
+    int32_t first, last;       /* creation order */
+    int grid_bodies;           /* bodies in the broad phase */
+    int grid_rest;             /* of which in REST lists */
+    uint32_t grid_cat, grid_mask; /* union of their categories and masks (never shrinks) */
+
+    int32_t *heads;            /* broad phase: 2 list heads per cell; NULL until needed */
+    int grid_w, grid_h;
+
+    nt__contact *con, *con_new, *con_tmp, *parked;
+    int con_count, con_new_count, parked_count;
+    int con_cap, con_new_cap, con_tmp_cap, parked_cap;
+    int con_dirty;             /* con not sorted by key */
+
+    nt_contact_begin_event *ev_begin;
+    nt_contact_end_event *ev_end;
+    nt_hit_event *ev_hit;
+    nt_sensor_event *ev_sbegin, *ev_send;
+    int n_begin, n_end, n_hit, n_sbegin, n_send;
+    int cap_begin, cap_end, cap_hit, cap_sbegin, cap_send;
+
+    int32_t *wake_list;        /* bodies to wake after pair finding (capacity body_cap) */
+    int wake_count;
+    nt_world_counters counters;
+};
+
+/* Contacts are left overlapping by this skin, so that a resting contact is found
+ * again next step: 2.5e-4 cell, or 8 units in the last place of the coordinates
+ * where that is more (far from the origin in float). Constant over each binade, so
+ * that a body sliding along a floor does not sink as its x grows. */
+static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
+{
+    nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
+    nt_real base = w->cell * R(2.5e-4);
+    if (mag * NT_REAL_EPS * 8 <= base) return base;
+    int e;
+    (void)frexp((double)mag, &e);
+    return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, e));
+}
+
+/* floor() to int without a libm call, for the hot paths; clamped like nt__floor_int. */
+static inline int nt__ifloor(nt_real v)
+{
+    if (!(v > R(-1e9) && v < R(1e9))) return v > 0 ? 1000000000 : -1000000000;
+    int i = (int)v;
+    return i - ((nt_real)i > v);
+}
+
+/* world.c */
+void nt__wake(nt_world *w, int32_t i);          /* wake i's sleeping group, restore its contacts */
+void nt__wake_group(nt_world *w, int32_t i);    /* the same without restoring contacts */
+void nt__unpark(nt_world *w);                   /* move parked contacts of awake bodies back */
+void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller links the group) */
+/* Array growth through the allocator hook: returns the (possibly new) array with room
+ * for `need` elements and the first `used` kept, or NULL (old array untouched). */
+void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
+nt_material nt__cell_material(const nt_world *w, int x, int y);
+uint32_t nt__cell_flags(const nt_world *w, int x, int y);
+static inline bool nt__body_in_grid(const nt__body *b) { return b->mask != 0 && b->category != 0; }
+static inline nt_shape nt__body_shape(const nt__body *b)
+{
+    nt_shape s;
+    s.type = (nt_shape_type)b->shape;
+    s.half = b->half;
+    return s;
+}
+
+/* grid.c */
+nt_status nt__grid_enable(nt_world *w);
+void nt__grid_insert(nt_world *w, int32_t i);
+void nt__grid_remove(nt_world *w, int32_t i);
+void nt__grid_update(nt_world *w, int32_t i);   /* after the body moved or changed list */
+nt_status nt__grid_find_pairs(nt_world *w);     /* fills con_new; may grow it */
+typedef bool nt__visit_fn(const nt_world *w, int32_t i, void *ctx);
+void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx);
+bool nt__pair_filter(const nt__body *a, const nt__body *b);
+void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair: the axis they met on */
+
+/* response.c */
+nt_status nt__step(nt_world *w, nt_real dt);
+bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res);
+
+#endif
+/* ==== end of world simulation internals ==== */

@@ -233,7 +233,7 @@ static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsig
 static inline nt_real free_tolerance(nt_vec2 p)
 {
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
-    return R(2e-5) + R(8) * NT_REAL_EPS * mag;
+    return R(16) * NT_REAL_EPS * nt__max(R(1), mag);
 }
 
 static int is_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
@@ -285,7 +285,7 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
 static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc,
-                          int overlapped, int all_convex, int present, nt_resolution *out)
+                          int overlapped, int all_convex, int present, nt_resolution *out, nt_real *lower)
 {
     /* Fast certificate: every solid tile in range is overlapped and pushes the same
      * way, the deepest push clears them all (convex regions stay cleared further
@@ -303,10 +303,18 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
             cell_range(q, h, &c0, &d0, &c1, &d1);
             if (c0 >= a0 && d0 >= b0 && c1 <= a1 && d1 <= b1) {
                 set_single(out, &cs[deepest]);
+                *lower = cs[deepest].depth;
                 return 1;
             }
         }
     }
+    /* No way out of the union is shorter than the way out of its deepest tile: a
+     * candidate below that bound can free the object only within the tolerance of
+     * is_free, leaving it slightly inside, so it is not taken. */
+    nt_real lb = depth_at(map, p, shape, h);
+    *lower = lb;
+    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
     /* Singles, shortest first. */
     int order[MAX_CANDS];
     for (int i = 0; i < nc; i++) order[i] = i;
@@ -320,6 +328,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     int found = 0;
     for (int k = 0; k < nc; k++) {
         const cand *c = &cs[order[k]];
+        if (c->depth < floor_len) continue;
         nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
         if (is_free(map, q, shape, h)) {
             set_single(out, c);
@@ -334,7 +343,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
             nt_vec2 d;
             if (!corner(&cs[i], &cs[j], &d)) continue;
             nt_real len = nt__len(d);
-            if (len >= best_len || len > R(1.5)) continue;
+            if (len >= best_len || len > R(1.5) || len < floor_len) continue;
             if (is_free(map, nt__add(p, d), shape, h)) {
                 set_pair(out, d, &cs[i], &cs[j]);
                 best_len = len;
@@ -657,11 +666,12 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present);
     if (overlapped == 0) return false;
 
-    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, &res);
+    nt_real lower = 0;
+    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
     nt_real len = found ? nt__len(res.push) : R(0.8);
-    if (!found || len > depth_at(map, p, shape, h) * R(1.000001) + R(1e-6)) {
+    if (!found || len > lower * R(1.000001) + R(1e-6)) {
         nt_resolution e;
         memset(&e, 0, sizeof e);
         if (enumerate(map, p, shape, h, len, &e)) {

@@ -31,6 +31,8 @@ static int tile_of(char c)
     case 'r': return NT_TILE_HALFr;
     case 'c': return NT_TILE_CONCAVEpn;
     case 'o': return NT_TILE_CONVEXpn;
+    case 'B': return NT_TILE_22DEGpnB;
+    case 'S': return NT_TILE_22DEGpnS;
     default: return -1;
     }
 }
@@ -293,6 +295,52 @@ static void test_resolve_slope_to_floor(void **state)
     nt_map_destroy(m);
 }
 
+/* A 22-degree slope made of 22DEGpnB then 22DEGpnS is one straight line, so an
+ * object sunk by `pen` into it leaves along the line's normal by exactly `pen`
+ * (analytic), also where the nearest point of one tile alone is its vertex: a
+ * shorter push that frees that tile leaves the object inside the other. */
+static void test_resolve_joined_22_slope(void **state)
+{
+    (void)state;
+    const char *rows[] = {"......", "......", "......", "..BS..", "######"};
+    nt_map *m = make_map(6, 5, 1, rows);
+    /* The surface: y = 3 + (x - 2) / 2 for x in [2, 4]; outward normal (1, -2) / sqrt 5. */
+    const double nx = 1 / sqrt(5.0), ny = -2 / sqrt(5.0);
+    const double pens[] = {1e-4, 2.5e-4, 1e-3, 1e-2};
+    int checked = 0;
+    for (int shape = 0; shape < 2; shape++)
+        for (int k = 0; k < 4; k++)
+            for (int i = 0; i <= 200; i++) {
+                double r = 0.25, pen = pens[k];
+                double sx = 2.6 + 0.8 * i / 200.0, sy = 3 + (sx - 2) / 2; /* a point of the surface */
+                double cx, cy;
+                if (shape) { /* circle: centre at r - pen along the normal */
+                    cx = sx + nx * (r - pen);
+                    cy = sy + ny * (r - pen);
+                } else { /* box: its bottom-left corner sunk by pen */
+                    cx = sx - nx * pen + r;
+                    cy = sy - ny * pen - r;
+                }
+                nt_shape sh = shape ? nt_shape_circle(R(r)) : nt_shape_aabb(R(r), R(r));
+                nt_vec2 p = nt_v2((nt_real)cx, (nt_real)cy);
+                /* The exact sink of the rounded position. */
+                double want = shape ? r - (((double)p.x - 2) * nx + ((double)p.y - 3) * ny)
+                                    : -((((double)p.x - r) - 2) * nx + (((double)p.y + r) - 3) * ny);
+                nt_resolution res;
+                assert_true(nt_map_resolve(m, p, sh, &res));
+                double ex = (double)res.push.x - want * nx, ey = (double)res.push.y - want * ny;
+                if (sqrt(ex * ex + ey * ey) > 5e-6) {
+                    print_error("%s at (%.7f, %.7f) pen %g: push (%.9g, %.9g), expected (%.9g, %.9g)\n",
+                                shape ? "circle" : "box", cx, cy, pen, (double)res.push.x, (double)res.push.y,
+                                want * nx, want * ny);
+                    fail();
+                }
+                checked++;
+            }
+    assert_int_equal(checked, 2 * 4 * 201);
+    nt_map_destroy(m);
+}
+
 /* Inside an L-shaped corner (floor + wall) the way out is the corner point. */
 static void test_resolve_concave_corner(void **state)
 {
@@ -423,6 +471,7 @@ int main(void)
         cmocka_unit_test(test_edges_bulk_matches_incremental),
         cmocka_unit_test(test_resolve_flat_floor_seams),
         cmocka_unit_test(test_resolve_slope_to_floor),
+        cmocka_unit_test(test_resolve_joined_22_slope),
         cmocka_unit_test(test_resolve_concave_corner),
         cmocka_unit_test(test_resolve_free_and_border),
         cmocka_unit_test(test_resolve_vs_union_reference),

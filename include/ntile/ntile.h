@@ -11,5 +11,6 @@
 #include "base.h"
 #include "tiles.h"
 #include "map.h"
+#include "world.h"
 
 #endif

@@ -1,0 +1,435 @@
+/* ntile — the world: bodies moving through a tile map.
+ *
+ * A world owns an nt_map and a set of bodies (boxes or circles no larger than half
+ * a cell, never rotating). nt_world_step(world, dt) advances it by dt seconds:
+ * gravity and drag, contact response against tiles (N's model or Coulomb
+ * friction), body-body contacts, sleeping, events. Units are the map's world units
+ * and seconds; y points down, so the default gravity (0, +g) pulls downwards.
+ *
+ * Bodies are named by small handles (index + generation), passed by value. A handle
+ * whose body was destroyed is rejected with NT_ERR_INVALID_ID; getters given such a
+ * handle return a zero value. Every call that can fail returns an nt_status and
+ * leaves the world unchanged when it fails. Memory comes from the allocator hook
+ * (nt_set_allocator); a step allocates only when a buffer has to grow.
+ *
+ * Speed limit: a body moves at most `max_cells_per_step` cells (default 4) in one
+ * step; faster velocities are clamped. Within that limit a body never passes
+ * through a tile: a step whose motion is longer than the body's smaller half-size
+ * is split into sub-steps for that body (only when the swept cells hold a tile;
+ * at most 256, so this holds for half-sizes down to max_cells_per_step / 256
+ * cells). Body-body contacts are found once per step, for pairs overlapping or
+ * closer than 0.05 cell; bodies moving faster than their size relative to each
+ * other can pass through each other.
+ *
+ * Contacts rest a "skin" deep (2.5e-4 cell; more far from the origin in float), so
+ * that a resting contact is found again every step: a body on a floor sits
+ * 2.5e-4 cell into it. nt_map_overlap_depth of any body stays below 1e-3 cell.
+ *
+ * Friction: tile contacts use the world's model. Body-body contacts use Coulomb
+ * friction in the Coulomb model and N's rule on the relative velocity in the N
+ * model. Resting on a tile, a body's friction comes from its own weight only (the
+ * weight of bodies stacked on it does not add to it).
+ */
+#ifndef NTILE_WORLD_H
+#define NTILE_WORLD_H
+
+#include "base.h"
+#include "map.h"
+#include "tiles.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct nt_world nt_world;
+
+/// A body handle. The zero value is the null handle.
+typedef struct nt_body_id {
+    int32_t index1;      ///< body slot + 1; 0 for the null handle
+    uint32_t generation; ///< bumped each time the slot is reused
+} nt_body_id;
+
+/// The null body handle (also used for "a tile" in events and ray hits).
+static inline nt_body_id nt_null_body_id(void)
+{
+    nt_body_id id;
+    id.index1 = 0;
+    id.generation = 0;
+    return id;
+}
+
+/// True for the null handle.
+static inline bool nt_body_id_is_null(nt_body_id id) { return id.index1 == 0; }
+
+/// True when two handles name the same body.
+static inline bool nt_body_id_equals(nt_body_id a, nt_body_id b)
+{
+    return a.index1 == b.index1 && a.generation == b.generation;
+}
+
+/// How a body moves.
+typedef enum nt_body_type {
+    NT_BODY_STATIC = 0,    ///< never moves; infinite mass
+    NT_BODY_KINEMATIC = 1, ///< moves by its velocity only, ignores tiles and gravity; infinite mass, pushes dynamic bodies
+    NT_BODY_DYNAMIC = 2    ///< gravity, drag, tiles and contacts
+} nt_body_type;
+
+/// How friction and bounce act at a contact.
+typedef enum nt_friction_model {
+    /// N's model: when a body moves into a surface, v' = -bounce * vn + (1 - friction) * vt.
+    /// friction is in [0, 1].
+    NT_FRICTION_N = 0,
+    /// Coulomb: the tangential velocity change is at most friction * the normal velocity
+    /// change; below that the body sticks. friction (mu) is >= 0.
+    NT_FRICTION_COULOMB = 1
+} nt_friction_model;
+
+/// Surface properties. Two surfaces combine to max(bounce) and sqrt(friction_a * friction_b).
+typedef struct nt_material {
+    nt_real friction; ///< see nt_friction_model
+    nt_real bounce;   ///< restitution in [0, 1]
+} nt_material;
+
+/// Number of tile materials a world holds; cells name one by index (0 = the default).
+#define NT_MAX_MATERIALS 16
+
+/// Cell flag: the cell's tile is one-way. It stops a body only through a contact whose
+/// normal points up (normal.y < 0), and only when the body did not already overlap the
+/// tile before that move; otherwise bodies pass through it.
+#define NT_CELL_ONE_WAY 1u
+
+/// World definition: fill with nt_default_world_def() then adjust.
+typedef struct nt_world_def {
+    nt_map_def map;                   ///< the tile map (all EMPTY at creation)
+    nt_vec2 gravity;                  ///< world units / s^2; y down
+    nt_friction_model friction_model; ///< for every contact of the world
+    nt_material tile_material;        ///< material 0, used by every cell until told otherwise
+    nt_real restitution_threshold;    ///< approach speeds below this do not bounce (units/s, >= 0)
+    nt_real hit_event_threshold;      ///< approach speed that makes a hit event (units/s, >= 0)
+    bool enable_sleep;                ///< let resting bodies sleep (kinematic bodies never do)
+    nt_real sleep_speed;              ///< a body slower than this (units/s) counts as resting
+    nt_real sleep_time;               ///< a group of touching bodies resting this long (s) falls asleep
+    nt_real max_cells_per_step;       ///< speed limit in cells per step, in [1, 16]
+    int velocity_iterations;          ///< body-contact velocity iterations, 1..64
+    int position_iterations;          ///< body-overlap position iterations, 0..64
+    int body_capacity;                ///< bodies to reserve room for (grows as needed)
+    void *user_data;
+} nt_world_def;
+
+/// Defaults for N's scale (cell 24, 31 x 23 cells, 40 Hz feel): gravity (0, 320),
+/// NT_FRICTION_N, tile material {friction 0.05, bounce 0.3}, restitution and hit
+/// thresholds 24 units/s, sleep after 0.5 s below 6 units/s, 4 cells/step, 8 velocity
+/// and 4 position iterations. Speeds are world units: scale them with cell_size.
+nt_world_def nt_default_world_def(void);
+
+/// Create a world. On failure *out is NULL.
+nt_status nt_world_create(const nt_world_def *def, nt_world **out);
+
+/// Destroy a world and every body in it (NULL is ignored).
+void nt_world_destroy(nt_world *world);
+
+/// Advance the world by dt seconds (finite, > 0). Events of the previous step are discarded.
+nt_status nt_world_step(nt_world *world, nt_real dt);
+
+/// The world's tile map, for map queries. Change tiles through the world.
+const nt_map *nt_world_get_map(const nt_world *world);
+
+/// Set a cell's tile (as nt_map_set_tile) and wake the bodies near it.
+nt_status nt_world_set_tile(nt_world *world, int x, int y, int tile);
+
+/// Set every tile (as nt_map_set_tiles) and wake every body.
+nt_status nt_world_set_tiles(nt_world *world, const uint8_t *tiles, size_t count);
+
+/// A cell's tile; outside the map NT_TILE_FULL.
+int nt_world_get_tile(const nt_world *world, int x, int y);
+
+/// Set tile material `index` (0..NT_MAX_MATERIALS-1). Friction must suit the world's model.
+nt_status nt_world_set_material(nt_world *world, int index, nt_material material);
+
+/// Read tile material `index`; an invalid index gives {0, 0}.
+nt_material nt_world_get_material(const nt_world *world, int index);
+
+/// Make a cell use tile material `index`. Cells outside the map use material 0.
+nt_status nt_world_set_cell_material(nt_world *world, int x, int y, int index);
+
+/// The material index of a cell (0 outside the map).
+int nt_world_get_cell_material(const nt_world *world, int x, int y);
+
+/// Set a cell's flags (NT_CELL_ONE_WAY); wakes the bodies near it.
+nt_status nt_world_set_cell_flags(nt_world *world, int x, int y, uint32_t flags);
+
+/// A cell's flags (0 outside the map).
+uint32_t nt_world_get_cell_flags(const nt_world *world, int x, int y);
+
+/// Change gravity (finite); wakes every body.
+nt_status nt_world_set_gravity(nt_world *world, nt_vec2 gravity);
+
+/// The world's gravity.
+nt_vec2 nt_world_get_gravity(const nt_world *world);
+
+/// Number of live bodies.
+int nt_world_get_body_count(const nt_world *world);
+
+/// Number of awake dynamic and kinematic bodies.
+int nt_world_get_awake_count(const nt_world *world);
+
+/// The user pointer of the world definition.
+void *nt_world_get_user_data(const nt_world *world);
+
+/// Work done by the last step, for profiling.
+typedef struct nt_world_counters {
+    int body_count;    ///< live bodies
+    int awake_count;   ///< bodies simulated
+    int contact_count; ///< body pairs overlapping (and sensor overlaps)
+    int substep_count; ///< body moves, sub-steps included
+    int pair_tests;    ///< candidate pairs tested by the broad phase
+} nt_world_counters;
+
+/// Counters of the last step.
+nt_world_counters nt_world_get_counters(const nt_world *world);
+
+/// 64-bit FNV-1a over every live body's position and velocity (the bytes of x, y,
+/// vx, vy as nt_real) in creation order. Same inputs give the same hash.
+uint64_t nt_world_hash(const nt_world *world);
+
+/* ---------------------------------------------------------------- bodies */
+
+/// Body definition: fill with nt_default_body_def() then adjust.
+typedef struct nt_body_def {
+    nt_body_type type;     ///< default NT_BODY_DYNAMIC
+    nt_shape shape;        ///< default box of half-size 6 x 6; at most half a cell, > 0
+    nt_vec2 position;      ///< centre
+    nt_vec2 velocity;      ///< units/s (ignored for static bodies)
+    nt_real mass;          ///< > 0 for dynamic bodies; ignored otherwise
+    nt_real gravity_scale; ///< multiplies the world's gravity
+    nt_real linear_drag;   ///< >= 0: v *= 1 / (1 + drag * dt) each step
+    nt_material material;  ///< default {0.05, 0.3} (N's values)
+    uint32_t category;     ///< bits this body is (default 1)
+    uint32_t mask;         ///< bits it collides with (default all). Two bodies collide when
+                           ///< each one's category meets the other's mask. Mask 0: tiles only.
+    bool is_sensor;        ///< reports overlaps (sensor events) instead of colliding with bodies
+    bool enable_sleep;     ///< may fall asleep (default true)
+    bool is_awake;         ///< starts awake (default true)
+    bool enable_hit_events;///< report hit events (default true)
+    void *user_data;
+} nt_body_def;
+
+/// Default body definition (a dynamic 12 x 12 box of mass 1 at the origin).
+nt_body_def nt_default_body_def(void);
+
+/// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
+/// half a cell), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
+/// for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
+/// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
+nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
+
+/// Remove a body; bodies touching it wake up.
+nt_status nt_body_destroy(nt_world *world, nt_body_id id);
+
+/// True when the handle names a live body of this world.
+bool nt_body_is_valid(const nt_world *world, nt_body_id id);
+
+/// The body's type.
+nt_body_type nt_body_get_type(const nt_world *world, nt_body_id id);
+
+/// The body's shape.
+nt_shape nt_body_get_shape(const nt_world *world, nt_body_id id);
+
+/// The body's mass (0 for static and kinematic bodies).
+nt_real nt_body_get_mass(const nt_world *world, nt_body_id id);
+
+/// Centre position.
+nt_vec2 nt_body_get_position(const nt_world *world, nt_body_id id);
+
+/// Move the body to a new centre (no collision on the way); wakes it.
+nt_status nt_body_set_position(nt_world *world, nt_body_id id, nt_vec2 position);
+
+/// Velocity in units/s.
+nt_vec2 nt_body_get_velocity(const nt_world *world, nt_body_id id);
+
+/// Set the velocity (dynamic or kinematic); wakes the body.
+nt_status nt_body_set_velocity(nt_world *world, nt_body_id id, nt_vec2 velocity);
+
+/// Change a dynamic body's velocity by impulse / mass; wakes it.
+nt_status nt_body_apply_impulse(nt_world *world, nt_body_id id, nt_vec2 impulse);
+
+/// The body's material.
+nt_material nt_body_get_material(const nt_world *world, nt_body_id id);
+
+/// Set the body's material (checked against the world's friction model).
+nt_status nt_body_set_material(nt_world *world, nt_body_id id, nt_material material);
+
+/// Set gravity scale (finite).
+nt_status nt_body_set_gravity_scale(nt_world *world, nt_body_id id, nt_real scale);
+
+/// Set linear drag (finite, >= 0).
+nt_status nt_body_set_linear_drag(nt_world *world, nt_body_id id, nt_real drag);
+
+/// Set collision category and mask bits; wakes the body.
+nt_status nt_body_set_filter(nt_world *world, nt_body_id id, uint32_t category, uint32_t mask);
+
+/// Category bits.
+uint32_t nt_body_get_category(const nt_world *world, nt_body_id id);
+
+/// Mask bits.
+uint32_t nt_body_get_mask(const nt_world *world, nt_body_id id);
+
+/// True when the body is simulated (false for static bodies and sleeping ones).
+bool nt_body_is_awake(const nt_world *world, nt_body_id id);
+
+/// Wake a body (with every body asleep in its group), or put this body alone to sleep
+/// (bodies touching it stay awake and treat it as static until it wakes).
+nt_status nt_body_set_awake(nt_world *world, nt_body_id id, bool awake);
+
+/// Allow or forbid sleeping for this body; forbidding wakes it.
+nt_status nt_body_enable_sleep(nt_world *world, nt_body_id id, bool enable);
+
+/// The user pointer.
+void *nt_body_get_user_data(const nt_world *world, nt_body_id id);
+
+/// Set the user pointer.
+nt_status nt_body_set_user_data(nt_world *world, nt_body_id id, void *user_data);
+
+/// What a body touched in the tiles during the last step. "Floor" is a surface whose
+/// normal has y <= -0.5 (slopes up to 60 degrees), "ceiling" y >= 0.5; a wall on the
+/// left pushes to the right (normal x >= 0.5), on the right to the left.
+typedef struct nt_body_tile_contacts {
+    bool on_floor;
+    nt_vec2 floor_normal; ///< the floor's normal when on_floor, else (0, 0)
+    bool on_ceiling;
+    bool wall_left;
+    bool wall_right;
+    int count;                      ///< 0, 1 or 2 surfaces
+    nt_tile_contact contacts[2];    ///< normal, depth at detection, cell
+} nt_body_tile_contacts;
+
+/// The tile contacts of the body after the last step.
+nt_status nt_body_get_tile_contacts(const nt_world *world, nt_body_id id, nt_body_tile_contacts *out);
+
+/* ---------------------------------------------------------------- events */
+
+/// Two bodies started to touch: overlap, or come closer than the skin (found at the
+/// start of a step, so a collision is reported in the step after it happened).
+typedef struct nt_contact_begin_event {
+    nt_body_id a, b;  ///< a was created in the lower slot
+    nt_vec2 normal;   ///< from a towards b
+    nt_real depth;
+} nt_contact_begin_event;
+
+/// Two bodies stopped touching, or one of them was destroyed (ids as they were).
+typedef struct nt_contact_end_event {
+    nt_body_id a, b;
+} nt_contact_end_event;
+
+/// A body hit a tile (b is null) or another body with an approach speed of at least
+/// the world's hit_event_threshold.
+typedef struct nt_hit_event {
+    nt_body_id a, b;
+    int cell_x, cell_y; ///< the tile's cell (tile hits)
+    nt_vec2 normal;     ///< tile: the surface normal; bodies: from a towards b
+    nt_real speed;      ///< approach speed along the normal
+} nt_hit_event;
+
+/// The contact events of the last step. Begin and end events are sorted by
+/// (a's slot, b's slot); hit events come in a fixed order. Valid until the next call
+/// that changes the world.
+typedef struct nt_contact_events {
+    const nt_contact_begin_event *begin_events;
+    int begin_count;
+    const nt_contact_end_event *end_events;
+    int end_count;
+    const nt_hit_event *hit_events;
+    int hit_count;
+} nt_contact_events;
+
+/// Contact events of the last step.
+nt_contact_events nt_world_get_contact_events(const nt_world *world);
+
+/// A body started or stopped overlapping a sensor (strict overlap). A sensor sees
+/// every non-sensor body its filter accepts; it exerts no force and feels none from
+/// bodies (its type still decides how it moves).
+typedef struct nt_sensor_event {
+    nt_body_id sensor, visitor;
+} nt_sensor_event;
+
+/// The sensor events of the last step, sorted like contact events.
+typedef struct nt_sensor_events {
+    const nt_sensor_event *begin_events;
+    int begin_count;
+    const nt_sensor_event *end_events;
+    int end_count;
+} nt_sensor_events;
+
+/// Sensor events of the last step.
+nt_sensor_events nt_world_get_sensor_events(const nt_world *world);
+
+/* ---------------------------------------------------------------- queries */
+
+/// Which bodies a query sees: those whose category meets `mask` (sensors never). Bodies
+/// with a zero mask or category are not in the broad phase and are never reported.
+typedef struct nt_query_filter {
+    uint32_t mask;
+    bool tiles; ///< ray casts: include the tiles
+} nt_query_filter;
+
+/// All bodies and the tiles.
+nt_query_filter nt_default_query_filter(void);
+
+/// A world ray hit: a tile (body is null) or a body.
+typedef struct nt_world_ray_hit {
+    nt_body_id body;
+    nt_real fraction;   ///< t in [0, 1] along p0 -> p1
+    nt_vec2 point;
+    nt_vec2 normal;     ///< outward normal; (0, 0) when p0 is inside
+    int cell_x, cell_y; ///< the tile's cell (tile hits)
+} nt_world_ray_hit;
+
+/// Closest thing the segment p0 -> p1 enters (touching is not entering). False when none.
+bool nt_world_raycast(const nt_world *world, nt_vec2 p0, nt_vec2 p1, nt_query_filter filter, nt_world_ray_hit *out);
+
+/// Called for each body found by an overlap query; return false to stop the query.
+typedef bool nt_query_fn(nt_body_id id, void *context);
+
+/// Report every body whose shape strictly contains the point. Returns how many were reported.
+int nt_world_query_point(const nt_world *world, nt_vec2 point, nt_query_filter filter, nt_query_fn *fn, void *context);
+
+/// Report every body whose shape's interior overlaps the box lo..hi. Returns how many were reported.
+int nt_world_overlap_aabb(const nt_world *world, nt_vec2 lo, nt_vec2 hi, nt_query_filter filter, nt_query_fn *fn,
+                          void *context);
+
+/* ---------------------------------------------------------------- debug draw */
+
+/// Colours are 0xRRGGBB. Any callback may be NULL.
+typedef struct nt_debug_draw {
+    /// Closed outline (tiles).
+    void (*draw_polygon)(const nt_vec2 *vertices, int count, uint32_t color, void *context);
+    /// Axis-aligned box (box bodies).
+    void (*draw_box)(nt_vec2 lo, nt_vec2 hi, uint32_t color, void *context);
+    /// Circle outline (circle bodies).
+    void (*draw_circle)(nt_vec2 center, nt_real radius, uint32_t color, void *context);
+    /// Line segment (edges, normals, velocities).
+    void (*draw_segment)(nt_vec2 p0, nt_vec2 p1, uint32_t color, void *context);
+    /// Only draw what overlaps lo..hi when use_bounds is set.
+    nt_vec2 bounds_lo, bounds_hi;
+    bool use_bounds;
+    bool draw_tiles;         ///< tile outlines
+    bool draw_edges;         ///< SOLID edges (red) and INTERESTING edges (yellow)
+    bool draw_bodies;        ///< bodies, coloured by type and state
+    bool draw_velocities;    ///< velocity * 0.1 s
+    bool draw_contacts;      ///< body contact normals
+    bool draw_tile_contacts; ///< tile contact normals
+    bool draw_grid;          ///< broad-phase cells that hold bodies
+    void *context;
+} nt_debug_draw;
+
+/// No callbacks; tiles and bodies on, everything else off.
+nt_debug_draw nt_default_debug_draw(void);
+
+/// Draw the world through the callbacks.
+void nt_world_draw(const nt_world *world, const nt_debug_draw *draw);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,256 @@
+/* Broad phase: N's loose grid. Every body with a non-zero category and mask sits in
+ * the map cell holding its centre (clamped to the map), in one of two intrusive
+ * lists per cell: ACTIVE (awake dynamic and kinematic bodies) and REST (static and
+ * sleeping ones). A body is at most half a cell, so it can only touch bodies of its
+ * own cell and the 8 around it. Pairs are found from the awake side only: each
+ * ACTIVE body tests the later ACTIVE bodies of its own cell, the ACTIVE lists of 4 of
+ * its 8 neighbours (a half neighbourhood, so each pair is met once) and the REST
+ * lists of all 9 cells. Sleeping and static bodies cost nothing here.
+ *
+ * b->gcell is the index of the list head the body is linked in: 2 * cell + list. */
+#include <string.h>
+#include "core.h"
+
+nt_status nt__grid_enable(nt_world *w)
+{
+    if (w->heads) return NT_OK;
+    size_t n = 2 * (size_t)w->grid_w * (size_t)w->grid_h;
+    int32_t *h = (int32_t *)nt__alloc(n * sizeof *h);
+    if (!h) return NT_ERR_OUT_OF_MEMORY;
+    memset(h, 0xff, n * sizeof *h); /* -1 everywhere */
+    w->heads = h;
+    return NT_OK;
+}
+
+static inline int32_t cell_of(const nt_world *w, nt_vec2 p)
+{
+    int x = nt__ifloor(p.x * w->inv_cell), y = nt__ifloor(p.y * w->inv_cell);
+    if (x < 0) x = 0;
+    if (x >= w->grid_w) x = w->grid_w - 1;
+    if (y < 0) y = 0;
+    if (y >= w->grid_h) y = w->grid_h - 1;
+    return (int32_t)y * w->grid_w + x;
+}
+
+static inline void link(nt_world *w, int32_t i, int32_t head)
+{
+    nt__body *b = &w->bodies[i];
+    int32_t first = w->heads[head];
+    w->grid_rest += head & 1;
+    b->gcell = head;
+    b->gprev = -1;
+    b->gnext = first;
+    if (first >= 0) w->bodies[first].gprev = i;
+    w->heads[head] = i;
+}
+
+static inline void unlink(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    w->grid_rest -= b->gcell & 1;
+    if (b->gprev >= 0) w->bodies[b->gprev].gnext = b->gnext;
+    else w->heads[b->gcell] = b->gnext;
+    if (b->gnext >= 0) w->bodies[b->gnext].gprev = b->gprev;
+    b->gnext = b->gprev = -1;
+}
+
+void nt__grid_insert(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    link(w, i, 2 * cell_of(w, b->p) + b->glist);
+    w->grid_bodies++;
+    w->grid_cat |= b->category;
+    w->grid_mask |= b->mask;
+}
+
+void nt__grid_remove(nt_world *w, int32_t i)
+{
+    unlink(w, i);
+    w->bodies[i].gcell = -1;
+    w->grid_bodies--;
+}
+
+void nt__grid_update(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    int32_t head = 2 * cell_of(w, b->p) + b->glist;
+    if (head == b->gcell) return;
+    unlink(w, i);
+    link(w, i, head);
+}
+
+/* Two boxes overlap on both axes; the least overlap is not always the axis they met
+ * on (a box sinking onto a neighbour's corner would be pushed sideways). Take the
+ * axis whose overlap began last, judged by the relative velocity, unless that
+ * overlap is already deep. */
+void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
+{
+    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
+    nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
+    nt_real vx = b->v.x - a->v.x, vy = b->v.y - a->v.y;
+    /* Time since the overlap began along each axis (infinite when not approaching). */
+    int ax = vx * dx < 0, ay = vy * dy < 0;
+    nt_real lim = R(0.5) * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
+    int use_y;
+    if (ax && ay) use_y = oy * nt__fabs(vx) < ox * nt__fabs(vy); /* oy/|vy| < ox/|vx| */
+    else if (ay) use_y = 1;
+    else if (ax) use_y = 0;
+    else return;
+    if ((use_y ? oy : ox) > lim) return;
+    if (use_y) {
+        m->normal = nt_v2(0, dy > 0 ? R(-1) : R(1));
+        m->depth = oy;
+    } else {
+        m->normal = nt_v2(dx > 0 ? R(-1) : R(1), 0);
+        m->depth = ox;
+    }
+}
+
+bool nt__pair_filter(const nt__body *a, const nt__body *b)
+{
+    if (!(a->category & b->mask) || !(b->category & a->mask)) return false;
+    int sa = a->flags & NT__BF_SENSOR, sb = b->flags & NT__BF_SENSOR;
+    if (sa && sb) return false;
+    if (sa || sb) return true;
+    return a->type == NT_BODY_DYNAMIC || b->type == NT_BODY_DYNAMIC;
+}
+
+/* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
+ * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
+ * measured along an axis or between closest points, never over-estimated. */
+static int pair_depth(const nt__body *a, const nt__body *b, nt_real margin, nt_vec2 *n, nt_real *depth)
+{
+    nt_mtv m;
+    if (nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) {
+        if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) nt__box_axis(a, b, &m);
+        *n = nt_v2(-m.normal.x, -m.normal.y);
+        *depth = m.depth;
+        return 1;
+    }
+    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
+    nt_real d;
+    if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) {
+        nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
+        /* Apart on at least one axis: the axis with the larger gap bounds the distance. */
+        if (ox < oy) {
+            *n = nt_v2(dx > 0 ? R(1) : R(-1), 0);
+            d = ox;
+        } else {
+            *n = nt_v2(0, dy > 0 ? R(1) : R(-1));
+            d = oy;
+        }
+    } else if (a->shape == NT_SHAPE_CIRCLE && b->shape == NT_SHAPE_CIRCLE) {
+        nt_real len = nt__sqrt(dx * dx + dy * dy);
+        if (len <= 0) return 0;
+        *n = nt_v2(dx / len, dy / len);
+        d = a->half.x + b->half.x - len;
+    } else {
+        /* Box and circle: closest point of the box to the circle's centre. */
+        const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
+        nt_real cx = cir->p.x - box->p.x, cy = cir->p.y - box->p.y;
+        nt_real vx = cx - nt__clamp(cx, -box->half.x, box->half.x), vy = cy - nt__clamp(cy, -box->half.y, box->half.y);
+        nt_real len = nt__sqrt(vx * vx + vy * vy);
+        if (len <= 0) return 0;
+        nt_real s = box == a ? R(1) : R(-1);
+        *n = nt_v2(s * vx / len, s * vy / len);
+        d = cir->half.x - len;
+    }
+    if (d <= -margin) return 0;
+    *depth = d;
+    return 1;
+}
+
+/* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
+static inline int test_pair(nt_world *w, int32_t i, int32_t j, nt_real margin)
+{
+    const nt__body *bi = &w->bodies[i], *bj = &w->bodies[j];
+    nt_real dx = bj->p.x - bi->p.x, dy = bj->p.y - bi->p.y;
+    if (nt__fabs(dx) >= bi->half.x + bj->half.x + margin || nt__fabs(dy) >= bi->half.y + bj->half.y + margin) return 1;
+    if (!nt__pair_filter(bi, bj)) return 1;
+    int32_t a = i < j ? i : j, b = i < j ? j : i;
+    const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
+    int sensor = (ba->flags | bb->flags) & NT__BF_SENSOR;
+    nt_vec2 n;
+    nt_real depth;
+    /* Sensors only care about real overlap. */
+    if (!pair_depth(ba, bb, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
+    if (w->con_new_count == w->con_new_cap) {
+        nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
+                                                 w->con_new_count + 1, sizeof *p);
+        if (!p) return 0;
+        w->con_new = p;
+    }
+    nt__contact *c = &w->con_new[w->con_new_count++];
+    memset(c, 0, sizeof *c);
+    c->key = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
+    c->gen_a = ba->generation;
+    c->gen_b = bb->generation;
+    c->n = n;
+    c->depth = depth;
+    c->flags = ((ba->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_A : 0u) | ((bb->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_B : 0u) |
+               (depth > (sensor ? 0 : -nt__skin(w, ba->p)) ? NT__CF_TOUCH : 0u);
+    return 1;
+}
+
+nt_status nt__grid_find_pairs(nt_world *w)
+{
+    w->con_new_count = 0;
+    w->counters.pair_tests = 0;
+    if (!w->heads || w->grid_bodies < 2) return NT_OK;
+    /* Skip everything when no awake body can collide with any body of the grid. */
+    int possible = 0;
+    for (int k = 0; k < w->awake_count && !possible; k++) {
+        const nt__body *b = &w->bodies[w->awake[k]];
+        if (b->gcell >= 0 && (b->category & w->grid_mask) && (b->mask & w->grid_cat)) possible = 1;
+    }
+    if (!possible) return NT_OK;
+    const int gw = w->grid_w, gh = w->grid_h;
+    const nt_real margin = w->cell * NT__CONTACT_MARGIN;
+    static const int half_dx[4] = {1, 1, 1, 0}, half_dy[4] = {-1, 0, 1, 1};
+    int tests = 0;
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        const nt__body *bi = &w->bodies[i];
+        if (bi->gcell < 0) continue;
+        int32_t cell = bi->gcell >> 1;
+        int cx = cell % gw, cy = cell / gw;
+        for (int32_t j = bi->gnext; j >= 0; j = w->bodies[j].gnext, tests++)
+            if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+        for (int n = 0; n < 4; n++) {
+            int x = cx + half_dx[n], y = cy + half_dy[n];
+            if (x < 0 || y < 0 || x >= gw || y >= gh) continue;
+            for (int32_t j = w->heads[2 * (y * gw + x)]; j >= 0; j = w->bodies[j].gnext, tests++)
+                if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+        }
+        for (int y = cy - 1; y <= cy + 1 && w->grid_rest > 0; y++) {
+            if (y < 0 || y >= gh) continue;
+            for (int x = cx - 1; x <= cx + 1; x++) {
+                if (x < 0 || x >= gw) continue;
+                for (int32_t j = w->heads[2 * (y * gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
+                    if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+            }
+        }
+    }
+    w->counters.pair_tests = tests;
+    return NT_OK;
+}
+
+void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx)
+{
+    if (!w->heads) return;
+    nt_real m = w->cell * R(0.5), ic = w->inv_cell;
+    int x0 = nt__ifloor((lo.x - m) * ic), y0 = nt__ifloor((lo.y - m) * ic);
+    int x1 = nt__ifloor((hi.x + m) * ic), y1 = nt__ifloor((hi.y + m) * ic);
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 >= w->grid_w) x1 = w->grid_w - 1;
+    if (y1 >= w->grid_h) y1 = w->grid_h - 1;
+    /* Bodies outside the map live in the edge cells: clamp the range into the map. */
+    if (x0 > x1) x0 = x1 = x0 >= w->grid_w ? w->grid_w - 1 : 0;
+    if (y0 > y1) y0 = y1 = y0 >= w->grid_h ? w->grid_h - 1 : 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            for (int list = 0; list < 2; list++)
+                for (int32_t j = w->heads[2 * (y * w->grid_w + x) + list]; j >= 0; j = w->bodies[j].gnext)
+                    if (!fn(w, j, ctx)) return;
+}

@@ -1,0 +1,898 @@
+/* One world step, in this order:
+ *
+ *  1. collide   find the body pairs that overlap now (broad phase in grid.c), match
+ *               them with last step's contacts (warm start, begin/end events, wake
+ *               on touch). Every buffer the step needs is grown here, before any
+ *               state changes, so a failed step leaves the world as it was.
+ *  2. correct   push overlapping bodies apart, split by inverse mass, and free the
+ *               pushed bodies from the tiles again.
+ *  3. velocity  gravity and drag; resting tile contacts remembered from the last
+ *               step (friction model applied once per surface); body contacts by
+ *               sequential impulses (restitution, friction, warm start) with the
+ *               tile contacts of those bodies as one-sided constraints.
+ *  4. move      semi-implicit Euler with the tiles: per body, in sub-steps when it
+ *               moves further than its smaller half-size; each sub-step is freed
+ *               by nt_map_resolve and answered by the friction model.
+ *  5. sleep     groups of touching bodies that rested long enough fall asleep.
+ *
+ * Contacts are left overlapping by a tiny skin (2.5e-4 cell plus rounding of the
+ * position) so that a resting contact is found again next step without a gap
+ * appearing and closing. */
+#include <string.h>
+#include "core.h"
+
+#define skin_at nt__skin
+
+static inline nt_vec2 perp(nt_vec2 n) { return nt_v2(-n.y, n.x); }
+
+static inline int32_t key_a(uint64_t k) { return (int32_t)(k >> 32); }
+static inline int32_t key_b(uint64_t k) { return (int32_t)(k & 0xffffffffu); }
+
+static inline nt_body_id id_of(int32_t i, uint32_t gen)
+{
+    nt_body_id id;
+    id.index1 = i + 1;
+    id.generation = gen;
+    return id;
+}
+
+/* Inverse mass as the solver sees it: only awake dynamic bodies move. */
+static inline nt_real solver_w(const nt__body *b)
+{
+    return (b->type == NT_BODY_DYNAMIC && b->awake_slot >= 0) ? b->inv_mass : 0;
+}
+
+static inline int contact_live(const nt_world *w, const nt__contact *c)
+{
+    const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+    return (a->flags & NT__BF_ALIVE) && (b->flags & NT__BF_ALIVE) && a->generation == c->gen_a &&
+           b->generation == c->gen_b;
+}
+
+/* ---------------------------------------------------------------- 1. collide */
+
+/* Stable bottom-up merge sort by key; returns the array holding the result. */
+static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
+{
+    int sorted = 1;
+    for (int i = 1; i < n && sorted; i++)
+        if (a[i - 1].key > a[i].key) sorted = 0;
+    if (sorted) return a;
+    nt__contact *src = a, *dst = tmp;
+    for (int width = 1; width < n; width *= 2) {
+        for (int lo = 0; lo < n; lo += 2 * width) {
+            int mid = lo + width < n ? lo + width : n, hi = lo + 2 * width < n ? lo + 2 * width : n;
+            int i = lo, j = mid, k = lo;
+            while (i < mid && j < hi) dst[k++] = src[j].key < src[i].key ? src[j++] : src[i++];
+            while (i < mid) dst[k++] = src[i++];
+            while (j < hi) dst[k++] = src[j++];
+        }
+        nt__contact *t = src;
+        src = dst;
+        dst = t;
+    }
+    return src;
+}
+
+#define GROW(arr, count, cap, need)                                                                          \
+    do {                                                                                                     \
+        if ((need) > (cap)) {                                                                                \
+            void *p_ = nt__grow((arr), (count), &(cap), (need), sizeof *(arr));                             \
+            if (!p_) return NT_ERR_OUT_OF_MEMORY;                                                            \
+            (arr) = p_;                                                                                      \
+        }                                                                                                    \
+    } while (0)
+
+static void end_event(nt_world *w, const nt__contact *c)
+{
+    int32_t a = key_a(c->key), b = key_b(c->key);
+    if (c->flags & NT__CF_SENSOR) {
+        nt_sensor_event *e = &w->ev_send[w->n_send++];
+        int a_is_sensor = (c->flags & NT__CF_SENSOR_A) != 0;
+        e->sensor = a_is_sensor ? id_of(a, c->gen_a) : id_of(b, c->gen_b);
+        e->visitor = a_is_sensor ? id_of(b, c->gen_b) : id_of(a, c->gen_a);
+    } else {
+        nt_contact_end_event *e = &w->ev_end[w->n_end++];
+        e->a = id_of(a, c->gen_a);
+        e->b = id_of(b, c->gen_b);
+    }
+}
+
+static void begin_event(nt_world *w, const nt__contact *c)
+{
+    int32_t a = key_a(c->key), b = key_b(c->key);
+    if (c->flags & NT__CF_SENSOR) {
+        nt_sensor_event *e = &w->ev_sbegin[w->n_sbegin++];
+        int a_is_sensor = (c->flags & NT__CF_SENSOR_A) != 0;
+        e->sensor = a_is_sensor ? id_of(a, c->gen_a) : id_of(b, c->gen_b);
+        e->visitor = a_is_sensor ? id_of(b, c->gen_b) : id_of(a, c->gen_a);
+        return;
+    }
+    nt_contact_begin_event *e = &w->ev_begin[w->n_begin++];
+    e->a = id_of(a, c->gen_a);
+    e->b = id_of(b, c->gen_b);
+    e->normal = c->n;
+    e->depth = c->depth;
+    /* Wake on touch: a sleeping body touched by an awake one. */
+    for (int s = 0; s < 2; s++) {
+        int32_t i = s ? b : a, o = s ? a : b;
+        nt__body *bi = &w->bodies[i];
+        if (bi->type == NT_BODY_DYNAMIC && bi->awake_slot < 0 && w->bodies[o].awake_slot >= 0 &&
+            !(bi->flags & NT__BF_MARK)) {
+            bi->flags |= NT__BF_MARK;
+            w->wake_list[w->wake_count++] = i;
+        }
+    }
+}
+
+/* A box pair keeps the axis it touched on while that overlap stays shallow, so a
+ * resting contact does not flip sideways when the other overlap becomes smaller. */
+static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *c)
+{
+    const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+    if (a->shape != NT_SHAPE_AABB || b->shape != NT_SHAPE_AABB || nt__dot(o->n, c->n) > R(0.5)) return;
+    if (o->n.x != 0 && o->n.y != 0) return;
+    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
+    nt_real lim = R(0.5) * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
+    if (o->n.x == 0) {
+        nt_real oy = a->half.y + b->half.y - nt__fabs(dy);
+        if (oy > lim || (dy > 0) != (o->n.y > 0)) return;
+        c->n = o->n;
+        c->depth = oy;
+    } else {
+        nt_real ox = a->half.x + b->half.x - nt__fabs(dx);
+        if (ox > lim || (dx > 0) != (o->n.x > 0)) return;
+        c->n = o->n;
+        c->depth = ox;
+    }
+}
+
+static nt_status collide(nt_world *w)
+{
+    if (w->con_dirty) {
+        nt__contact *r = sort_contacts(w->con, w->con_tmp, w->con_count);
+        if (r != w->con) memcpy(w->con, r, (size_t)w->con_count * sizeof *r);
+        w->con_dirty = 0;
+    }
+    nt_status s = nt__grid_find_pairs(w);
+    if (s != NT_OK) return s;
+    int nn = w->con_new_count, no = w->con_count;
+    /* Room for everything this step can produce (the merge keeps con and con_tmp
+     * interchangeable, and unparking needs con_count + parked_count). */
+    int need = nn + no + w->parked_count;
+    GROW(w->con, w->con_count, w->con_cap, need);
+    GROW(w->con_tmp, 0, w->con_tmp_cap, need);
+    GROW(w->parked, w->parked_count, w->parked_cap, w->parked_count + no);
+    GROW(w->ev_begin, 0, w->cap_begin, nn);
+    GROW(w->ev_end, 0, w->cap_end, no);
+    GROW(w->ev_sbegin, 0, w->cap_sbegin, nn);
+    GROW(w->ev_send, 0, w->cap_send, no);
+    GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
+
+    /* Committed: nothing below allocates. */
+    w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
+    w->wake_count = 0;
+    nt__contact *nw = sort_contacts(w->con_new, w->con_tmp, nn);
+    if (nw != w->con_new) memcpy(w->con_new, nw, (size_t)nn * sizeof *nw);
+    nt__contact *old = w->con, *out = w->con_tmp;
+    int i = 0, j = 0, k = 0;
+    while (i < no || j < nn) {
+        if (j >= nn || (i < no && old[i].key < w->con_new[j].key)) {
+            const nt__contact *c = &old[i++];
+            const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+            if (contact_live(w, c) && a->awake_slot < 0 && b->awake_slot < 0)
+                w->parked[w->parked_count++] = *c; /* both asleep or static: keep it aside */
+            else if (c->flags & NT__CF_TOUCH)
+                end_event(w, c);
+        } else if (i >= no || w->con_new[j].key < old[i].key) {
+            out[k] = w->con_new[j++];
+            if (out[k].flags & NT__CF_TOUCH) begin_event(w, &out[k]);
+            k++;
+        } else {
+            const nt__contact *o = &old[i++];
+            out[k] = w->con_new[j++];
+            nt__contact *c = &out[k++];
+            if (o->gen_a == c->gen_a && o->gen_b == c->gen_b) {
+                if (c->flags & NT__CF_TOUCH) keep_box_axis(w, o, c);
+                /* Warm start only while the normal holds. */
+                if (nt__dot(o->n, c->n) > R(0.95)) {
+                    c->ln = o->ln;
+                    c->lt = o->lt;
+                }
+                if ((o->flags & NT__CF_TOUCH) && !(c->flags & NT__CF_TOUCH)) end_event(w, o);
+                if (!(o->flags & NT__CF_TOUCH) && (c->flags & NT__CF_TOUCH)) begin_event(w, c);
+            } else {
+                if (o->flags & NT__CF_TOUCH) end_event(w, o);
+                if (c->flags & NT__CF_TOUCH) begin_event(w, c);
+            }
+        }
+    }
+    /* Swap: the merged list becomes current. */
+    nt__contact *t = w->con;
+    int tc = w->con_cap;
+    w->con = w->con_tmp;
+    w->con_cap = w->con_tmp_cap;
+    w->con_tmp = t;
+    w->con_tmp_cap = tc;
+    w->con_count = k;
+    for (int q = 0; q < w->wake_count; q++) {
+        int32_t b = w->wake_list[q];
+        w->bodies[b].flags &= (uint8_t)~NT__BF_MARK;
+        nt__wake_group(w, b);
+    }
+    if (w->wake_count) nt__unpark(w);
+    return NT_OK;
+}
+
+/* ---------------------------------------------------------------- tiles */
+
+static int oneway_in_range(const nt_world *w, nt_vec2 p, nt_vec2 h)
+{
+    nt_real ic = w->inv_cell;
+    int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
+    int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            if (nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) return 1;
+    return 0;
+}
+
+/* Deepest overlap (cell units) of the body at p with the one-way tiles alone. */
+static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
+{
+    nt_real ic = w->inv_cell;
+    nt_vec2 h = nt_v2(b->half.x * ic, b->half.y * ic), c = nt_v2(p.x * ic, p.y * ic);
+    int x0 = nt__ifloor(c.x - h.x), x1 = nt__ifloor(c.x + h.x);
+    int y0 = nt__ifloor(c.y - h.y), y1 = nt__ifloor(c.y + h.y);
+    nt_real worst = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            if (!(nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY)) continue;
+            nt_shape s;
+            s.type = (nt_shape_type)b->shape;
+            s.half = h;
+            nt_mtv m;
+            if (nt_collide_tile_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, &m) &&
+                m.depth > worst)
+                worst = m.depth;
+        }
+    return worst;
+}
+
+/* True when every cell the box can touch is an EMPTY cell of the map: nothing to
+ * resolve (the common case for a body in the air, checked without a call). */
+static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
+{
+    nt_real ic = w->inv_cell;
+    int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
+    int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
+    const nt_map *m = w->map;
+    if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
+    for (int y = y0; y <= y1; y++) {
+        const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;
+        for (int x = x0; x <= x1; x++)
+            if (row[x].tile != NT_TILE_EMPTY) return 0;
+    }
+    return 1;
+}
+
+bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
+{
+    if (open_air(w, p, b->half)) return false;
+    nt_shape s = nt__body_shape(b);
+    if (!w->oneway_count || !oneway_in_range(w, p, b->half)) return nt_map_resolve(w->map, p, s, res);
+    /* One-way tiles stop a body only from above, and only if it was not inside them. */
+    if (oneway_depth(w, p_prev, b) * w->cell <= skin_at(w, p_prev) * 2) {
+        if (!nt_map_resolve(w->map, p, s, res)) return false;
+        int ok = 1;
+        for (int k = 0; k < res->contact_count; k++)
+            if ((nt__cell_flags(w, res->contacts[k].cell_x, res->contacts[k].cell_y) & NT_CELL_ONE_WAY) &&
+                !(res->contacts[k].normal.y < 0))
+                ok = 0;
+        if (ok) return true;
+    }
+    return nt_map_resolve(w->solid, p, s, res);
+}
+
+static inline int cell_material_index(const nt_world *w, int x, int y)
+{
+    if (!w->cell_mat || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return 0;
+    return w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x];
+}
+
+static inline void tile_material(const nt_world *w, const nt__body *b, int mat, nt_real *f, nt_real *e)
+{
+    const nt_material *m = &w->materials[mat];
+    *f = nt__sqrt(b->friction * m->friction);
+    *e = nt__max(b->bounce, m->bounce);
+}
+
+/* Move the body out by the resolution's push, leaving it `skin` deep in each
+ * surface (in a corner: in both, so that both stay in contact). */
+static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
+{
+    nt_vec2 p = res->push;
+    nt_real skin = skin_at(w, b->p);
+    if (res->contact_count == 2) {
+        /* p' = p - skin * c with c.n1 = c.n2 = 1. */
+        nt_vec2 n1 = res->contacts[0].normal, n2 = res->contacts[1].normal;
+        nt_real det = n1.x * n2.y - n1.y * n2.x;
+        if (nt__fabs(det) > R(0.1)) {
+            nt_vec2 c = nt_v2((n2.y - n1.y) / det, (n1.x - n2.x) / det);
+            b->p.x += p.x - skin * c.x;
+            b->p.y += p.y - skin * c.y;
+            return;
+        }
+    }
+    /* One surface: end exactly `skin` deep, even when that means a hair further in
+     * (a graze shallower than the map's tolerance would be lost in a later corner). */
+    nt_real len = nt__len(p);
+    nt_vec2 n = res->contact_count ? res->contacts[0].normal : (len > 0 ? nt__scale(p, 1 / len) : nt_v2(0, 0));
+    b->p.x += p.x - skin * n.x;
+    b->p.y += p.y - skin * n.y;
+}
+
+/* Remember the surfaces of a resolution. A straight surface seen again keeps the
+ * normal it had: where two tiles of one slope meet, the resolution may report a
+ * corner's normal tilted by up to a degree or so, and a remembered tilted normal
+ * would steer the body off the slope. Round tiles always take the new normal. */
+static void store_tile_contacts(const nt_world *w, nt__body *b, const nt_resolution *res, int solved)
+{
+    nt_vec2 keep[2];
+    for (int k = 0; k < res->contact_count; k++) {
+        keep[k] = res->contacts[k].normal;
+        int t = nt__map_tile(w->map, res->contacts[k].cell_x, res->contacts[k].cell_y);
+        if (nt__tiles[t].cls != NT_CLASS_POLYGON) continue;
+        for (int j = 0; j < b->ntc; j++)
+            if (nt__dot(b->tc[j].n, keep[k]) > R(0.999)) keep[k] = b->tc[j].n;
+    }
+    b->ntc = (uint8_t)res->contact_count;
+    for (int k = 0; k < res->contact_count; k++) {
+        nt__tile_ct *t = &b->tc[k];
+        t->n = keep[k];
+        t->depth = res->contacts[k].depth;
+        t->lambda = 0;
+        t->cx = res->contacts[k].cell_x;
+        t->cy = res->contacts[k].cell_y;
+        t->material = (uint8_t)cell_material_index(w, t->cx, t->cy);
+        t->solved = (uint8_t)solved;
+    }
+}
+
+/* The friction model for one surface the body moves into (a = v.n < 0).
+ * `bounce` is the restitution to use (0 for resting contacts). The new velocity is
+ * rebuilt from its normal and tangent parts, so a body that sticks gets exactly 0. */
+static nt_vec2 respond(nt_friction_model model, nt_vec2 v, nt_vec2 n, nt_real friction, nt_real bounce,
+                       nt_real *normal_change)
+{
+    nt_vec2 t = perp(n);
+    nt_real a = nt__dot(v, n), bt = nt__dot(v, t);
+    nt_real a2 = -bounce * a, bt2;
+    if (model == NT_FRICTION_N) {
+        bt2 = (1 - friction) * bt;
+    } else {
+        nt_real limit = friction * (a2 - a); /* mu * normal velocity change */
+        bt2 = nt__fabs(bt) <= limit ? 0 : (bt > 0 ? bt - limit : bt + limit);
+    }
+    *normal_change = a2 - a;
+    return nt_v2(a2 * n.x + bt2 * t.x, a2 * n.y + bt2 * t.y);
+}
+
+/* Keep v out of every listed surface. With two surfaces the velocities allowed form
+ * a wedge; when both are active the only answer is v = 0 (in 2D). */
+static nt_vec2 clamp_surfaces(nt_vec2 v, const nt_vec2 *n, int count)
+{
+    int active = 0;
+    for (int k = 0; k < count; k++) {
+        nt_real a = nt__dot(v, n[k]);
+        if (a < 0) {
+            v = nt__sub(v, nt__scale(n[k], a));
+            active |= 1 << k;
+        }
+    }
+    if (count == 2 && (active & 2)) {
+        nt_real a = nt__dot(v, n[0]);
+        if (a < -R(1e-6) * nt__len(v)) v = nt_v2(0, 0);
+    }
+    return v;
+}
+
+/* Resting contacts remembered from the last step: friction applied once, no bounce. */
+static void tile_solve(nt_world *w, nt__body *b)
+{
+    nt_friction_model model = w->def.friction_model;
+    for (int k = 0; k < b->ntc; k++) {
+        nt__tile_ct *t = &b->tc[k];
+        t->solved = 1;
+        t->lambda = 0;
+        if (nt__dot(b->v, t->n) >= 0) continue;
+        nt_real f, e, dn;
+        tile_material(w, b, t->material, &f, &e);
+        b->v = respond(model, b->v, t->n, f, 0, &dn);
+        t->lambda = dn;
+    }
+    /* Two surfaces: the second answer may have pushed into the first again. */
+    if (b->ntc == 2) {
+        nt_vec2 n[2] = {b->tc[0].n, b->tc[1].n};
+        b->v = clamp_surfaces(b->v, n, 2);
+    }
+}
+
+/* The surface answered earlier in this step that n is (within 2.6 degrees: the
+ * resolution's normal jitters slightly where tiles meet), or NULL. */
+static const nt__tile_ct *answered(const nt__body *b, nt_vec2 n)
+{
+    for (int k = 0; k < b->ntc; k++)
+        if (b->tc[k].solved && nt__dot(b->tc[k].n, n) > R(0.999)) return &b->tc[k];
+    return NULL;
+}
+
+typedef struct hit_rec {
+    nt_real speed;
+    nt_vec2 n;
+    int cx, cy;
+} hit_rec;
+
+/* Answer a resolution: for each surface moved into, the friction model (or, for a
+ * surface already answered this step, just stop moving into it). */
+static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hit_rec *hit)
+{
+    for (int k = 0; k < res->contact_count; k++) {
+        nt_vec2 n = res->contacts[k].normal;
+        const nt__tile_ct *same = answered(b, n);
+        if (same) {
+            /* Already answered: only stop moving into it, along the answered normal. */
+            nt_real a = nt__dot(b->v, same->n);
+            if (a < 0) b->v = nt__sub(b->v, nt__scale(same->n, a));
+            continue;
+        }
+        nt_real a = nt__dot(b->v, n);
+        if (a >= 0) continue;
+        nt_real f, e, dn;
+        tile_material(w, b, cell_material_index(w, res->contacts[k].cell_x, res->contacts[k].cell_y), &f, &e);
+        if (-a < w->def.restitution_threshold) e = 0;
+        b->v = respond(w->def.friction_model, b->v, n, f, e, &dn);
+        if (-a > hit->speed) {
+            hit->speed = -a;
+            hit->n = n;
+            hit->cx = res->contacts[k].cell_x;
+            hit->cy = res->contacts[k].cell_y;
+        }
+    }
+    if (res->contact_count == 2) {
+        nt_vec2 n[2] = {res->contacts[0].normal, res->contacts[1].normal};
+        b->v = clamp_surfaces(b->v, n, 2);
+    }
+}
+
+/* ---------------------------------------------------------------- 2. correct */
+
+static void correct_positions(nt_world *w)
+{
+    int iters = w->def.position_iterations;
+    if (iters == 0 || w->con_count == 0) return;
+    int32_t *moved = w->wake_list;
+    nt_real *prev = w->scratch_r;
+    for (int it = 0; it < iters; it++) {
+        int nm = 0;
+        for (int k = 0; k < w->con_count; k++) {
+            nt__contact *c = &w->con[k];
+            if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+            int32_t ia = key_a(c->key), ib = key_b(c->key);
+            nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+            nt_real wa = solver_w(a), wb = solver_w(b);
+            if (wa + wb <= 0) continue;
+            nt_mtv m;
+            if (!nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) continue;
+            nt_real d = m.depth - skin_at(w, a->p);
+            if (d <= 0) continue;
+            nt_real sa = d * wa / (wa + wb), sb = d - sa;
+            for (int s = 0; s < 2; s++) {
+                int32_t i = s ? ib : ia;
+                nt__body *bi = s ? b : a;
+                if ((s ? sb : sa) <= 0) continue;
+                if (!(bi->flags & NT__BF_MOVED)) {
+                    bi->flags |= NT__BF_MOVED;
+                    prev[2 * i] = bi->p.x;
+                    prev[2 * i + 1] = bi->p.y;
+                    moved[nm++] = i;
+                }
+            }
+            /* m.normal moves a out of b. */
+            a->p.x += m.normal.x * sa;
+            a->p.y += m.normal.y * sa;
+            b->p.x -= m.normal.x * sb;
+            b->p.y -= m.normal.y * sb;
+        }
+        if (nm == 0) break;
+        /* Pushed bodies must not end inside tiles. */
+        for (int q = 0; q < nm; q++) {
+            int32_t i = moved[q];
+            nt__body *b = &w->bodies[i];
+            b->flags &= (uint8_t)~NT__BF_MOVED;
+            nt_resolution res;
+            nt_vec2 p0 = nt_v2(prev[2 * i], prev[2 * i + 1]);
+            if (nt__resolve_body(w, b, p0, b->p, &res)) {
+                apply_push(w, b, &res);
+                store_tile_contacts(w, b, &res, 0);
+            } else {
+                b->ntc = 0;
+            }
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- 3. velocity */
+
+static void hit_event_bodies(nt_world *w, const nt__contact *c, nt_real speed)
+{
+    int32_t a = key_a(c->key), b = key_b(c->key);
+    if (!((w->bodies[a].flags | w->bodies[b].flags) & NT__BF_HITS)) return;
+    nt_hit_event *e = &w->ev_hit[w->n_hit++];
+    e->a = id_of(a, c->gen_a);
+    e->b = id_of(b, c->gen_b);
+    e->cell_x = e->cell_y = 0;
+    e->normal = c->n;
+    e->speed = speed;
+}
+
+/* The body's tile contacts as one-sided constraints with accumulated impulses
+ * (lambda, velocity units), solved exactly: with two surfaces the small
+ * complementarity problem is enumerated (both, first, second, none), as Box2D's
+ * block solver does for two-point manifolds. */
+static void solve_tile_block(nt__body *b)
+{
+    if (b->ntc == 1) {
+        nt__tile_ct *t = &b->tc[0];
+        nt_real l = nt__max(t->lambda - nt__dot(b->v, t->n), 0);
+        b->v = nt__add(b->v, nt__scale(t->n, l - t->lambda));
+        t->lambda = l;
+        return;
+    }
+    nt__tile_ct *t1 = &b->tc[0], *t2 = &b->tc[1];
+    nt_vec2 n1 = t1->n, n2 = t2->n;
+    /* The velocity without the tiles' impulses. */
+    nt_vec2 v0 = nt__sub(b->v, nt__add(nt__scale(n1, t1->lambda), nt__scale(n2, t2->lambda)));
+    nt_real b1 = nt__dot(v0, n1), b2 = nt__dot(v0, n2), c = nt__dot(n1, n2);
+    nt_real x1 = 0, x2 = 0, det = 1 - c * c;
+    if (det > R(1e-6)) {
+        x1 = (-b1 + c * b2) / det;
+        x2 = (-b2 + c * b1) / det;
+    }
+    if (!(det > R(1e-6) && x1 >= 0 && x2 >= 0)) {
+        x1 = nt__max(-b1, 0);
+        x2 = 0;
+        if (b2 + c * x1 < 0) {
+            x1 = 0;
+            x2 = nt__max(-b2, 0);
+            if (b1 + c * x2 < 0) {
+                /* Parallel surfaces pushing the same way: one answer does for both. */
+                x1 = nt__max(-b1, 0);
+                x2 = 0;
+            }
+        }
+    }
+    t1->lambda = x1;
+    t2->lambda = x2;
+    b->v = nt__add(v0, nt__add(nt__scale(n1, x1), nt__scale(n2, x2)));
+}
+
+static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
+{
+    nt_friction_model model = w->def.friction_model;
+    /* Gravity and drag. */
+    nt_vec2 g = w->def.gravity;
+    for (int k = 0; k < w->awake_count; k++) {
+        nt__body *b = &w->bodies[w->awake[k]];
+        if (b->type != NT_BODY_DYNAMIC) continue;
+        b->v.x += g.x * b->gravity_scale * dt;
+        b->v.y += g.y * b->gravity_scale * dt;
+        if (b->drag > 0) {
+            nt_real f = 1 / (1 + b->drag * dt);
+            b->v.x *= f;
+            b->v.y *= f;
+        }
+        if (b->ntc) tile_solve(w, b);
+    }
+    if (w->con_count == 0) return;
+
+    /* Body contacts. Restitution targets and hit speeds come from the velocities
+     * before any contact impulse (warm start included) is applied. */
+    int32_t *tiled = w->wake_list; /* bodies whose tile contacts join the iterations */
+    int ntiled = 0;
+    int any = 0;
+    for (int k = 0; k < w->con_count; k++) {
+        nt__contact *c = &w->con[k];
+        c->meff = 0;
+        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+        nt_real wa = solver_w(a), wb = solver_w(b);
+        if (wa + wb <= 0) continue;
+        any = 1;
+        c->meff = 1 / (wa + wb);
+        c->friction = nt__sqrt(a->friction * b->friction);
+        c->bounce = nt__max(a->bounce, b->bounce);
+        nt_real vn0 = nt__dot(nt__sub(b->v, a->v), c->n);
+        int touch = (c->flags & NT__CF_TOUCH) != 0;
+        /* A near contact may close its gap this step and no more; one that closes it
+         * is a collision now, so it bounces with the full approach speed. */
+        int hits = touch ? vn0 < 0 : vn0 * dt < c->depth;
+        c->bias = touch ? 0 : c->depth / dt;
+        if (hits && vn0 < -w->def.restitution_threshold) c->bias = nt__max(c->bias, -c->bounce * vn0);
+        if (hits && -vn0 >= w->def.hit_event_threshold) hit_event_bodies(w, c, -vn0);
+        if (model == NT_FRICTION_N) {
+            /* N's rule on the relative velocity, once: lose `friction` of the tangential
+             * part. Measured now, applied with the warm start below. */
+            c->lt = touch && hits ? -c->friction * nt__dot(nt__sub(b->v, a->v), perp(c->n)) * c->meff : 0;
+        }
+    }
+    for (int k = 0; k < w->con_count; k++) {
+        nt__contact *c = &w->con[k];
+        if (c->meff <= 0) continue;
+        nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+        nt_real wa = solver_w(a), wb = solver_w(b);
+        nt_vec2 n = c->n, t = perp(n);
+        if (model == NT_FRICTION_COULOMB) c->lt *= dt_ratio;
+        c->ln *= dt_ratio;
+        nt_vec2 P = nt_v2(n.x * c->ln + t.x * c->lt, n.y * c->ln + t.y * c->lt);
+        a->v = nt__sub(a->v, nt__scale(P, wa));
+        b->v = nt__add(b->v, nt__scale(P, wb));
+        if (model == NT_FRICTION_N) c->lt = 0; /* N's friction is not carried over */
+        for (int s = 0; s < 2; s++) {
+            nt__body *bi = s ? b : a;
+            if ((s ? wb : wa) > 0 && bi->ntc && !(bi->flags & NT__BF_MARK)) {
+                bi->flags |= NT__BF_MARK;
+                tiled[ntiled++] = s ? key_b(c->key) : key_a(c->key);
+            }
+        }
+    }
+    for (int q = 0; q < ntiled; q++) w->bodies[tiled[q]].flags &= (uint8_t)~NT__BF_MARK;
+    if (!any) return;
+
+    for (int it = 0; it < w->def.velocity_iterations; it++) {
+        /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */
+        for (int q = 0; q < ntiled; q++) solve_tile_block(&w->bodies[tiled[q]]);
+        for (int k = 0; k < w->con_count; k++) {
+            nt__contact *c = &w->con[k];
+            if (c->meff <= 0) continue;
+            nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
+            nt_real wa = solver_w(a), wb = solver_w(b);
+            nt_vec2 n = c->n;
+            nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
+            nt_real ln = nt__max(c->ln - (vn - c->bias) * c->meff, 0);
+            nt_real dl = ln - c->ln;
+            c->ln = ln;
+            a->v = nt__sub(a->v, nt__scale(n, dl * wa));
+            b->v = nt__add(b->v, nt__scale(n, dl * wb));
+            if (model == NT_FRICTION_COULOMB) {
+                nt_vec2 t = perp(n);
+                nt_real vt = nt__dot(nt__sub(b->v, a->v), t);
+                nt_real lim = c->friction * c->ln;
+                nt_real lt = nt__clamp(c->lt - vt * c->meff, -lim, lim);
+                nt_real dt_ = lt - c->lt;
+                c->lt = lt;
+                a->v = nt__sub(a->v, nt__scale(t, dt_ * wa));
+                b->v = nt__add(b->v, nt__scale(t, dt_ * wb));
+            }
+        }
+    }
+    /* Tiles have the last word: no velocity into a surface after the solve. */
+    for (int q = 0; q < ntiled; q++) solve_tile_block(&w->bodies[tiled[q]]);
+}
+
+/* ---------------------------------------------------------------- 4. move */
+
+/* True when every cell the box swept from p to p + d (half-size h) is EMPTY. */
+static int sweep_empty(const nt_world *w, nt_vec2 p, nt_vec2 d, nt_vec2 h)
+{
+    nt_real ic = w->inv_cell;
+    nt_real lx = nt__min(p.x, p.x + d.x) - h.x, hx = nt__max(p.x, p.x + d.x) + h.x;
+    nt_real ly = nt__min(p.y, p.y + d.y) - h.y, hy = nt__max(p.y, p.y + d.y) + h.y;
+    int x0 = nt__ifloor(lx * ic), x1 = nt__ifloor(hx * ic);
+    int y0 = nt__ifloor(ly * ic), y1 = nt__ifloor(hy * ic);
+    if ((long)(x1 - x0 + 1) * (long)(y1 - y0 + 1) > 48) return 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            if (nt__map_tile(w->map, x, y) != NT_TILE_EMPTY) return 0;
+    return 1;
+}
+
+static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
+{
+    nt__body *b = &w->bodies[i];
+    nt_vec2 disp = nt__scale(b->v, dt);
+    nt_real dist = nt__len(disp), hmin = nt__min(b->half.x, b->half.y);
+    int n = 1;
+    /* A step longer than the smaller half-size could skip a thin piece of tile. */
+    if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) {
+        nt_real q = dist / hmin;
+        n = q >= 256 ? 256 : (int)q + 1;
+    }
+    nt_real h = dt / (nt_real)n;
+    hit_rec hit;
+    memset(&hit, 0, sizeof hit);
+    for (int s = 0; s < n; s++) {
+        nt_vec2 p0 = b->p;
+        b->p.x += b->v.x * h;
+        b->p.y += b->v.y * h;
+        nt_resolution res;
+        if (!nt__resolve_body(w, b, p0, b->p, &res)) {
+            b->ntc = 0;
+            continue;
+        }
+        apply_push(w, b, &res);
+        respond_tiles(w, b, &res, &hit);
+        store_tile_contacts(w, b, &res, 1);
+    }
+    for (int k = 0; k < b->ntc; k++) b->tc[k].solved = 0;
+    if (hit.speed > 0 && hit.speed >= w->def.hit_event_threshold && (b->flags & NT__BF_HITS)) {
+        nt_hit_event *e = &w->ev_hit[w->n_hit++];
+        e->a = id_of(i, b->generation);
+        e->b = nt_null_body_id();
+        e->cell_x = hit.cx;
+        e->cell_y = hit.cy;
+        e->normal = hit.n;
+        e->speed = hit.speed;
+    }
+    return n;
+}
+
+static void move_bodies(nt_world *w, nt_real dt)
+{
+    nt_real maxd = w->def.max_cells_per_step * w->cell;
+    int moves = 0;
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        nt__body *b = &w->bodies[i];
+        nt_real sp2 = nt__dot(b->v, b->v);
+        if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
+        if (b->type == NT_BODY_KINEMATIC) {
+            b->p.x += b->v.x * dt;
+            b->p.y += b->v.y * dt;
+            moves++;
+        } else {
+            moves += move_dynamic(w, i, dt);
+        }
+        if (b->gcell >= 0) nt__grid_update(w, i);
+    }
+    w->counters.substep_count = moves;
+}
+
+/* ---------------------------------------------------------------- 5. sleep */
+
+static int32_t uf_find(int32_t *parent, int32_t i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+static void uf_union(int32_t *parent, int32_t a, int32_t b)
+{
+    a = uf_find(parent, a);
+    b = uf_find(parent, b);
+    if (a == b) return;
+    /* The smaller index becomes the root: the result does not depend on the order. */
+    if (a < b) parent[b] = a;
+    else parent[a] = b;
+}
+
+/* Make an asleep body's whole group one union-find set (first time it is seen). */
+static void uf_add_sleeping(nt_world *w, int32_t *parent, int32_t *head, nt_real *tmin, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    if (b->flags & NT__BF_MARK) return;
+    int32_t j = i;
+    do {
+        w->bodies[j].flags |= NT__BF_MARK;
+        parent[j] = j;
+        head[j] = -1;
+        tmin[j] = NT_REAL_MAX;
+        j = w->bodies[j].sleep_next;
+    } while (j >= 0 && j != i);
+    j = i;
+    do {
+        uf_union(parent, i, j);
+        j = w->bodies[j].sleep_next;
+    } while (j >= 0 && j != i);
+}
+
+static void update_sleep(nt_world *w, nt_real dt)
+{
+    if (!w->def.enable_sleep) return;
+    nt_real v2max = w->def.sleep_speed * w->def.sleep_speed;
+    int32_t *parent = w->scratch_a, *head = w->scratch_a + w->body_cap;
+    nt_real *tmin = w->scratch_r;
+    int candidates = 0;
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        nt__body *b = &w->bodies[i];
+        if (b->type != NT_BODY_DYNAMIC) continue;
+        if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
+        else b->sleep_time += dt;
+        if (b->sleep_time >= w->def.sleep_time) candidates++;
+        parent[i] = i;
+        head[i] = -1;
+        tmin[i] = NT_REAL_MAX;
+    }
+    if (candidates == 0) return;
+    /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
+    for (int k = 0; k < w->con_count; k++) {
+        const nt__contact *c = &w->con[k];
+        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+        /* A moving kinematic body keeps what it touches awake. */
+        if (a->type == NT_BODY_KINEMATIC && (a->v.x != 0 || a->v.y != 0)) b->sleep_time = 0;
+        if (b->type == NT_BODY_KINEMATIC && (b->v.x != 0 || b->v.y != 0)) a->sleep_time = 0;
+        if (a->type != NT_BODY_DYNAMIC || b->type != NT_BODY_DYNAMIC) continue;
+        if (a->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ia);
+        if (b->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ib);
+        uf_union(parent, ia, ib);
+    }
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        const nt__body *b = &w->bodies[i];
+        if (b->type != NT_BODY_DYNAMIC) continue;
+        int32_t r = uf_find(parent, i);
+        if (b->sleep_time < tmin[r]) tmin[r] = b->sleep_time;
+    }
+    /* Gather the sleepers first: sleeping reorders the awake array. */
+    int32_t *list = w->wake_list;
+    int n = 0;
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        if (w->bodies[i].type == NT_BODY_DYNAMIC && tmin[uf_find(parent, i)] >= w->def.sleep_time) list[n++] = i;
+    }
+    /* Sleeping groups reached through contacts join the new group. */
+    for (int k = 0; k < w->con_count; k++) {
+        const nt__contact *c = &w->con[k];
+        for (int s = 0; s < 2; s++) {
+            int32_t i = s ? key_b(c->key) : key_a(c->key);
+            nt__body *b = &w->bodies[i];
+            if (!(b->flags & NT__BF_MARK)) continue;
+            int32_t r = uf_find(parent, i);
+            int sleeps = tmin[r] >= w->def.sleep_time;
+            /* Clear the marks of the whole group, adding it to the sleepers if they sleep. */
+            int32_t j = i;
+            do {
+                w->bodies[j].flags &= (uint8_t)~NT__BF_MARK;
+                if (sleeps) list[n++] = j;
+                j = w->bodies[j].sleep_next;
+            } while (j >= 0 && j != i);
+        }
+    }
+    for (int q = 0; q < n; q++) {
+        int32_t i = list[q];
+        int32_t r = uf_find(parent, i);
+        nt__body *b = &w->bodies[i];
+        if (b->awake_slot >= 0) nt__sleep_body(w, i);
+        if (head[r] < 0) {
+            head[r] = i;
+            b->sleep_next = i;
+        } else {
+            b->sleep_next = w->bodies[head[r]].sleep_next;
+            w->bodies[head[r]].sleep_next = i;
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- the step */
+
+nt_status nt__step(nt_world *w, nt_real dt)
+{
+    nt_status s = collide(w);
+    if (s != NT_OK) return s;
+    nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
+    correct_positions(w);
+    solve_velocities(w, dt, ratio);
+    move_bodies(w, dt);
+    update_sleep(w, dt);
+    w->prev_dt = dt;
+    w->counters.body_count = w->body_count;
+    w->counters.awake_count = w->awake_count;
+    w->counters.contact_count = w->con_count;
+    return NT_OK;
+}

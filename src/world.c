@@ -1,0 +1,1223 @@
+/* The world: lifecycle, bodies, tiles and materials, sleeping groups, events,
+ * queries, debug drawing and the state hash. The step itself is in response.c,
+ * the broad phase in grid.c. */
+#include <string.h>
+#include "core.h"
+
+/* ---------------------------------------------------------------- helpers */
+
+void *nt__grow(void *old, int used, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return old;
+    long long want = (long long)*cap * 2;
+    if (want < need) want = need;
+    if (want < 16) want = 16;
+    if (want > 0x7fffffff) want = 0x7fffffff;
+    if (want < need || (unsigned long long)want > (unsigned long long)(SIZE_MAX / elem)) return NULL;
+    void *p = nt__alloc((size_t)want * elem);
+    if (!p) return NULL;
+    if (old && used > 0) memcpy(p, old, (size_t)used * elem);
+    nt__free(old);
+    *cap = (int)want;
+    return p;
+}
+
+static int finite2(nt_vec2 v) { return nt__finite(v.x) && nt__finite(v.y); }
+
+static nt_status check_material(const nt_world_def *def, nt_material m)
+{
+    if (!nt__finite(m.friction) || !nt__finite(m.bounce)) return NT_ERR_NON_FINITE;
+    if (m.friction < 0 || m.bounce < 0 || m.bounce > 1) return NT_ERR_INVALID_ARGUMENT;
+    if (def->friction_model == NT_FRICTION_N && m.friction > 1) return NT_ERR_INVALID_ARGUMENT;
+    return NT_OK;
+}
+
+/* The body behind a handle, or NULL. */
+static nt__body *get_body(const nt_world *w, nt_body_id id)
+{
+    if (!w || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
+    nt__body *b = &w->bodies[id.index1 - 1];
+    if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NULL;
+    return b;
+}
+
+static nt_body_id make_id(const nt_world *w, int32_t i)
+{
+    nt_body_id id;
+    id.index1 = i + 1;
+    id.generation = w->bodies[i].generation;
+    return id;
+}
+
+/* ---------------------------------------------------------------- world */
+
+nt_world_def nt_default_world_def(void)
+{
+    nt_world_def d;
+    memset(&d, 0, sizeof d);
+    d.map = nt_default_map_def();
+    d.gravity = nt_v2(0, 320);
+    d.friction_model = NT_FRICTION_N;
+    d.tile_material.friction = R(0.05);
+    d.tile_material.bounce = R(0.3);
+    d.restitution_threshold = 24;
+    d.hit_event_threshold = 24;
+    d.enable_sleep = true;
+    d.sleep_speed = 6;
+    d.sleep_time = R(0.5);
+    d.max_cells_per_step = 4;
+    d.velocity_iterations = 8;
+    d.position_iterations = 4;
+    d.body_capacity = 64;
+    d.user_data = NULL;
+    return d;
+}
+
+static nt_status check_world_def(const nt_world_def *d)
+{
+    if (!finite2(d->gravity) || !nt__finite(d->restitution_threshold) || !nt__finite(d->hit_event_threshold) ||
+        !nt__finite(d->sleep_speed) || !nt__finite(d->sleep_time) || !nt__finite(d->max_cells_per_step))
+        return NT_ERR_NON_FINITE;
+    if (d->friction_model != NT_FRICTION_N && d->friction_model != NT_FRICTION_COULOMB) return NT_ERR_INVALID_ARGUMENT;
+    nt_status s = check_material(d, d->tile_material);
+    if (s != NT_OK) return s;
+    if (d->restitution_threshold < 0 || d->hit_event_threshold < 0 || d->sleep_speed < 0 || d->sleep_time < 0)
+        return NT_ERR_INVALID_ARGUMENT;
+    if (d->max_cells_per_step < 1 || d->max_cells_per_step > 16) return NT_ERR_OUT_OF_RANGE;
+    if (d->velocity_iterations < 1 || d->velocity_iterations > 64) return NT_ERR_OUT_OF_RANGE;
+    if (d->position_iterations < 0 || d->position_iterations > 64) return NT_ERR_OUT_OF_RANGE;
+    if (d->body_capacity < 0) return NT_ERR_INVALID_ARGUMENT;
+    return NT_OK;
+}
+
+/* Grow every per-body array to `cap` slots. All or nothing. */
+static nt_status reserve_bodies(nt_world *w, int cap)
+{
+    if (cap <= w->body_cap) return NT_OK;
+    size_t n = (size_t)cap;
+    nt__body *b = (nt__body *)nt__alloc(n * sizeof *b);
+    nt__body_cold *c = (nt__body_cold *)nt__alloc(n * sizeof *c);
+    int32_t *aw = (int32_t *)nt__alloc(n * sizeof *aw);
+    int32_t *sa = (int32_t *)nt__alloc(2 * n * sizeof *sa);
+    nt_real *sr = (nt_real *)nt__alloc(2 * n * sizeof *sr);
+    int32_t *wl = (int32_t *)nt__alloc(n * sizeof *wl);
+    if (!b || !c || !aw || !sa || !sr || !wl) {
+        nt__free(b);
+        nt__free(c);
+        nt__free(aw);
+        nt__free(sa);
+        nt__free(sr);
+        nt__free(wl);
+        return NT_ERR_OUT_OF_MEMORY;
+    }
+    if (w->body_hwm > 0) {
+        memcpy(b, w->bodies, (size_t)w->body_hwm * sizeof *b);
+        memcpy(c, w->cold, (size_t)w->body_hwm * sizeof *c);
+    }
+    if (w->awake_count > 0) memcpy(aw, w->awake, (size_t)w->awake_count * sizeof *aw);
+    nt__free(w->bodies);
+    nt__free(w->cold);
+    nt__free(w->awake);
+    nt__free(w->scratch_a);
+    nt__free(w->scratch_r);
+    nt__free(w->wake_list);
+    w->bodies = b;
+    w->cold = c;
+    w->awake = aw;
+    w->scratch_a = sa;
+    w->scratch_r = sr;
+    w->wake_list = wl;
+    w->body_cap = cap;
+    return NT_OK;
+}
+
+nt_status nt_world_create(const nt_world_def *def, nt_world **out)
+{
+    if (!out) return NT_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!def) return NT_ERR_INVALID_ARGUMENT;
+    nt_status s = check_world_def(def);
+    if (s != NT_OK) return s;
+    nt_world *w = (nt_world *)nt__alloc(sizeof *w);
+    if (!w) return NT_ERR_OUT_OF_MEMORY;
+    memset(w, 0, sizeof *w);
+    s = nt_map_create(&def->map, &w->map);
+    if (s != NT_OK) {
+        nt__free(w);
+        return s;
+    }
+    w->def = *def;
+    w->cell = w->map->cell;
+    w->inv_cell = w->map->inv_cell;
+    for (int i = 0; i < NT_MAX_MATERIALS; i++) w->materials[i] = def->tile_material;
+    w->free_head = -1;
+    w->first = w->last = -1;
+    w->grid_w = w->map->w;
+    w->grid_h = w->map->h;
+    int cap = def->body_capacity > 0 ? def->body_capacity : 16;
+    if (reserve_bodies(w, cap) != NT_OK) {
+        nt_world_destroy(w);
+        return NT_ERR_OUT_OF_MEMORY;
+    }
+    *out = w;
+    return NT_OK;
+}
+
+void nt_world_destroy(nt_world *w)
+{
+    if (!w) return;
+    nt_map_destroy(w->map);
+    nt_map_destroy(w->solid);
+    nt__free(w->cell_mat);
+    nt__free(w->cell_flags);
+    nt__free(w->bodies);
+    nt__free(w->cold);
+    nt__free(w->awake);
+    nt__free(w->scratch_a);
+    nt__free(w->scratch_r);
+    nt__free(w->wake_list);
+    nt__free(w->heads);
+    nt__free(w->con);
+    nt__free(w->con_new);
+    nt__free(w->con_tmp);
+    nt__free(w->parked);
+    nt__free(w->ev_begin);
+    nt__free(w->ev_end);
+    nt__free(w->ev_hit);
+    nt__free(w->ev_sbegin);
+    nt__free(w->ev_send);
+    nt__free(w);
+}
+
+nt_status nt_world_step(nt_world *w, nt_real dt)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(dt)) return NT_ERR_NON_FINITE;
+    if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    return nt__step(w, dt);
+}
+
+const nt_map *nt_world_get_map(const nt_world *w) { return w ? w->map : NULL; }
+int nt_world_get_body_count(const nt_world *w) { return w ? w->body_count : 0; }
+int nt_world_get_awake_count(const nt_world *w) { return w ? w->awake_count : 0; }
+void *nt_world_get_user_data(const nt_world *w) { return w ? w->def.user_data : NULL; }
+
+nt_world_counters nt_world_get_counters(const nt_world *w)
+{
+    nt_world_counters c;
+    memset(&c, 0, sizeof c);
+    if (w) c = w->counters;
+    return c;
+}
+
+nt_vec2 nt_world_get_gravity(const nt_world *w) { return w ? w->def.gravity : nt_v2(0, 0); }
+
+static void wake_all(nt_world *w)
+{
+    for (int32_t i = 0; i < w->body_hwm; i++)
+        if ((w->bodies[i].flags & NT__BF_ALIVE) && w->bodies[i].type == NT_BODY_DYNAMIC) nt__wake_group(w, i);
+    nt__unpark(w);
+}
+
+nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (!finite2(g)) return NT_ERR_NON_FINITE;
+    w->def.gravity = g;
+    wake_all(w);
+    return NT_OK;
+}
+
+/* ---------------------------------------------------------------- tiles and cells */
+
+int nt_world_get_tile(const nt_world *w, int x, int y) { return w ? nt_map_get_tile(w->map, x, y) : NT_TILE_FULL; }
+
+nt_material nt__cell_material(const nt_world *w, int x, int y)
+{
+    if (!w->cell_mat || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return w->materials[0];
+    return w->materials[w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x]];
+}
+
+uint32_t nt__cell_flags(const nt_world *w, int x, int y)
+{
+    if (!w->cell_flags || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return 0;
+    return w->cell_flags[(size_t)y * (size_t)w->map->w + (size_t)x];
+}
+
+/* Wake the bodies whose box, grown by a cell, meets cells x0..x1, y0..y1, and drop their
+ * remembered contacts with those cells (the surface may be gone). */
+static void wake_near_cells(nt_world *w, int x0, int y0, int x1, int y1)
+{
+    nt_real c = w->cell;
+    nt_real lx = (nt_real)(x0 - 1) * c, ly = (nt_real)(y0 - 1) * c;
+    nt_real hx = (nt_real)(x1 + 2) * c, hy = (nt_real)(y1 + 2) * c;
+    for (int32_t i = 0; i < w->body_hwm; i++) {
+        nt__body *b = &w->bodies[i];
+        if (!(b->flags & NT__BF_ALIVE) || b->type != NT_BODY_DYNAMIC) continue;
+        if (b->p.x + b->half.x < lx || b->p.x - b->half.x > hx || b->p.y + b->half.y < ly ||
+            b->p.y - b->half.y > hy)
+            continue;
+        nt__wake_group(w, i);
+        b->ntc = 0;
+    }
+    nt__unpark(w);
+}
+
+nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    nt_status s = nt_map_set_tile(w->map, x, y, tile);
+    if (s != NT_OK) return s;
+    if (w->solid) {
+        int t = (nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : tile;
+        nt_map_set_tile(w->solid, x, y, t);
+    }
+    wake_near_cells(w, x, y, x, y);
+    return NT_OK;
+}
+
+nt_status nt_world_set_tiles(nt_world *w, const uint8_t *tiles, size_t count)
+{
+    if (!w || !tiles) return NT_ERR_INVALID_ARGUMENT;
+    size_t n = (size_t)w->map->w * (size_t)w->map->h;
+    uint8_t *tmp = NULL;
+    if (w->solid && count == n) {
+        tmp = (uint8_t *)nt__alloc(n);
+        if (!tmp) return NT_ERR_OUT_OF_MEMORY;
+        for (size_t k = 0; k < n; k++) tmp[k] = (w->cell_flags[k] & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : tiles[k];
+    }
+    nt_status s = nt_map_set_tiles(w->map, tiles, count);
+    if (s != NT_OK) {
+        nt__free(tmp);
+        return s;
+    }
+    if (tmp) {
+        nt_map_set_tiles(w->solid, tmp, n);
+        nt__free(tmp);
+    }
+    for (int32_t i = 0; i < w->body_hwm; i++) w->bodies[i].ntc = 0;
+    wake_all(w);
+    return NT_OK;
+}
+
+nt_status nt_world_set_material(nt_world *w, int index, nt_material m)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (index < 0 || index >= NT_MAX_MATERIALS) return NT_ERR_OUT_OF_RANGE;
+    nt_status s = check_material(&w->def, m);
+    if (s != NT_OK) return s;
+    w->materials[index] = m;
+    return NT_OK;
+}
+
+nt_material nt_world_get_material(const nt_world *w, int index)
+{
+    nt_material m = {0, 0};
+    if (!w || index < 0 || index >= NT_MAX_MATERIALS) return m;
+    return w->materials[index];
+}
+
+static int in_map(const nt_world *w, int x, int y) { return x >= 0 && y >= 0 && x < w->map->w && y < w->map->h; }
+
+nt_status nt_world_set_cell_material(nt_world *w, int x, int y, int index)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (!in_map(w, x, y) || index < 0 || index >= NT_MAX_MATERIALS) return NT_ERR_OUT_OF_RANGE;
+    size_t n = (size_t)w->map->w * (size_t)w->map->h;
+    if (!w->cell_mat) {
+        if (index == 0) return NT_OK;
+        w->cell_mat = (uint8_t *)nt__alloc(n);
+        if (!w->cell_mat) return NT_ERR_OUT_OF_MEMORY;
+        memset(w->cell_mat, 0, n);
+    }
+    w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x] = (uint8_t)index;
+    return NT_OK;
+}
+
+int nt_world_get_cell_material(const nt_world *w, int x, int y)
+{
+    if (!w || !w->cell_mat || !in_map(w, x, y)) return 0;
+    return w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x];
+}
+
+nt_status nt_world_set_cell_flags(nt_world *w, int x, int y, uint32_t flags)
+{
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (!in_map(w, x, y)) return NT_ERR_OUT_OF_RANGE;
+    if (flags & ~NT_CELL_ONE_WAY) return NT_ERR_INVALID_ARGUMENT;
+    size_t n = (size_t)w->map->w * (size_t)w->map->h;
+    size_t k = (size_t)y * (size_t)w->map->w + (size_t)x;
+    if (!w->cell_flags) {
+        if (flags == 0) return NT_OK;
+        uint8_t *f = (uint8_t *)nt__alloc(n);
+        if (!f) return NT_ERR_OUT_OF_MEMORY;
+        memset(f, 0, n);
+        w->cell_flags = f;
+    }
+    if ((flags & NT_CELL_ONE_WAY) && !w->solid) {
+        /* The map without one-way tiles: built on the first one-way cell. */
+        nt_map_def md;
+        md.width = w->map->w;
+        md.height = w->map->h;
+        md.cell_size = w->map->cell;
+        nt_map *solid = NULL;
+        nt_status s = nt_map_create(&md, &solid);
+        if (s != NT_OK) return s;
+        uint8_t *tmp = (uint8_t *)nt__alloc(n);
+        if (!tmp) {
+            nt_map_destroy(solid);
+            return NT_ERR_OUT_OF_MEMORY;
+        }
+        for (size_t i = 0; i < n; i++) tmp[i] = (w->cell_flags[i] & NT_CELL_ONE_WAY) ? 0 : w->map->cells[i].tile;
+        nt_map_set_tiles(solid, tmp, n);
+        nt__free(tmp);
+        w->solid = solid;
+    }
+    uint8_t old = w->cell_flags[k];
+    w->cell_flags[k] = (uint8_t)flags;
+    if ((old ^ flags) & NT_CELL_ONE_WAY) {
+        w->oneway_count += (flags & NT_CELL_ONE_WAY) ? 1 : -1;
+        nt_map_set_tile(w->solid, x, y, (flags & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : w->map->cells[k].tile);
+        wake_near_cells(w, x, y, x, y);
+    }
+    return NT_OK;
+}
+
+uint32_t nt_world_get_cell_flags(const nt_world *w, int x, int y) { return w ? nt__cell_flags(w, x, y) : 0; }
+
+/* ---------------------------------------------------------------- sleeping groups */
+
+static void awake_add(nt_world *w, int32_t i)
+{
+    w->bodies[i].awake_slot = w->awake_count;
+    w->awake[w->awake_count++] = i;
+}
+
+static void awake_remove(nt_world *w, int32_t i)
+{
+    int32_t slot = w->bodies[i].awake_slot;
+    if (slot < 0) return;
+    int32_t last = w->awake[--w->awake_count];
+    w->awake[slot] = last;
+    w->bodies[last].awake_slot = slot;
+    w->bodies[i].awake_slot = -1;
+}
+
+void nt__wake_group(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    if (!(b->flags & NT__BF_ALIVE) || b->type != NT_BODY_DYNAMIC || b->awake_slot >= 0) return;
+    int32_t j = i;
+    do {
+        nt__body *bj = &w->bodies[j];
+        int32_t next = bj->sleep_next;
+        bj->sleep_next = -1;
+        bj->sleep_time = 0;
+        awake_add(w, j);
+        if (bj->gcell >= 0) {
+            bj->glist = NT__LIST_ACTIVE;
+            nt__grid_update(w, j);
+        }
+        j = next;
+    } while (j >= 0 && j != i);
+}
+
+void nt__sleep_body(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    awake_remove(w, i);
+    b->v = nt_v2(0, 0);
+    b->sleep_time = 0;
+    if (b->gcell >= 0) {
+        b->glist = NT__LIST_REST;
+        nt__grid_update(w, i);
+    }
+}
+
+static int contact_live_awake(const nt_world *w, const nt__contact *c)
+{
+    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
+    const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
+    if (!(ba->flags & NT__BF_ALIVE) || !(bb->flags & NT__BF_ALIVE) || ba->generation != c->gen_a ||
+        bb->generation != c->gen_b)
+        return 1; /* dead: must go back to produce its end event */
+    return ba->awake_slot >= 0 || bb->awake_slot >= 0;
+}
+
+void nt__unpark(nt_world *w)
+{
+    int k = 0;
+    for (int i = 0; i < w->parked_count; i++) {
+        nt__contact *c = &w->parked[i];
+        if (contact_live_awake(w, c)) {
+            /* Room is guaranteed: con_cap >= con_count + parked_count. */
+            w->con[w->con_count++] = *c;
+            w->con_dirty = 1;
+        } else {
+            w->parked[k++] = *c;
+        }
+    }
+    w->parked_count = k;
+}
+
+void nt__wake(nt_world *w, int32_t i)
+{
+    nt__wake_group(w, i);
+    nt__unpark(w);
+}
+
+/* ---------------------------------------------------------------- bodies */
+
+nt_body_def nt_default_body_def(void)
+{
+    nt_body_def d;
+    memset(&d, 0, sizeof d);
+    d.type = NT_BODY_DYNAMIC;
+    d.shape = nt_shape_aabb(6, 6);
+    d.position = nt_v2(0, 0);
+    d.velocity = nt_v2(0, 0);
+    d.mass = 1;
+    d.gravity_scale = 1;
+    d.linear_drag = 0;
+    d.material.friction = R(0.05);
+    d.material.bounce = R(0.3);
+    d.category = 1;
+    d.mask = 0xffffffffu;
+    d.is_sensor = false;
+    d.enable_sleep = true;
+    d.is_awake = true;
+    d.enable_hit_events = true;
+    d.user_data = NULL;
+    return d;
+}
+
+static nt_status check_shape(const nt_world *w, nt_shape s)
+{
+    if (!finite2(s.half)) return NT_ERR_NON_FINITE;
+    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return NT_ERR_INVALID_ARGUMENT;
+    if (s.half.x <= 0 || s.half.y <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (s.type == NT_SHAPE_CIRCLE && s.half.x != s.half.y) return NT_ERR_INVALID_ARGUMENT;
+    if (s.half.x > w->cell * R(0.5) || s.half.y > w->cell * R(0.5)) return NT_ERR_SHAPE_TOO_LARGE;
+    return NT_OK;
+}
+
+static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
+{
+    if (d->type != NT_BODY_STATIC && d->type != NT_BODY_KINEMATIC && d->type != NT_BODY_DYNAMIC)
+        return NT_ERR_INVALID_ARGUMENT;
+    if (!finite2(d->position) || !finite2(d->velocity) || !nt__finite(d->mass) || !nt__finite(d->gravity_scale) ||
+        !nt__finite(d->linear_drag))
+        return NT_ERR_NON_FINITE;
+    nt_status s = check_shape(w, d->shape);
+    if (s != NT_OK) return s;
+    s = check_material(&w->def, d->material);
+    if (s != NT_OK) return s;
+    if (d->type == NT_BODY_DYNAMIC && d->mass <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
+    return NT_OK;
+}
+
+nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
+{
+    if (out) *out = nt_null_body_id();
+    if (!w || !def || !out) return NT_ERR_INVALID_ARGUMENT;
+    nt_status s = check_body_def(w, def);
+    if (s != NT_OK) return s;
+    if (w->body_count >= 0x7ffffffe) return NT_ERR_LIMIT;
+    int in_grid = def->mask != 0 && def->category != 0;
+    if (in_grid && !w->heads) {
+        s = nt__grid_enable(w);
+        if (s != NT_OK) return s;
+    }
+    int32_t i;
+    if (w->free_head >= 0) {
+        i = w->free_head;
+    } else {
+        if (w->body_hwm == w->body_cap) {
+            long long cap = (long long)w->body_cap * 2;
+            if (cap > 0x7fffffff) cap = 0x7fffffff;
+            s = reserve_bodies(w, (int)cap);
+            if (s != NT_OK) return s;
+        }
+        i = w->body_hwm;
+    }
+    /* Committed: nothing below can fail. */
+    nt__body *b = &w->bodies[i];
+    uint32_t gen;
+    if (i == w->free_head) {
+        gen = b->generation;
+        w->free_head = b->sleep_next;
+    } else {
+        gen = 1;
+        w->body_hwm++;
+    }
+    memset(b, 0, sizeof *b);
+    b->generation = gen;
+    b->p = def->position;
+    b->v = def->type == NT_BODY_STATIC ? nt_v2(0, 0) : def->velocity;
+    b->half = def->shape.half;
+    b->shape = (uint8_t)def->shape.type;
+    b->type = (uint8_t)def->type;
+    b->inv_mass = def->type == NT_BODY_DYNAMIC ? 1 / def->mass : 0;
+    b->gravity_scale = def->gravity_scale;
+    b->drag = def->linear_drag;
+    b->friction = def->material.friction;
+    b->bounce = def->material.bounce;
+    b->category = def->category;
+    b->mask = def->mask;
+    b->flags = NT__BF_ALIVE | (def->is_sensor ? NT__BF_SENSOR : 0) | (def->enable_sleep ? NT__BF_SLEEP_OK : 0) |
+               (def->enable_hit_events ? NT__BF_HITS : 0);
+    b->awake_slot = -1;
+    b->sleep_next = -1;
+    b->gcell = -1;
+    b->gnext = b->gprev = -1;
+    nt__body_cold *c = &w->cold[i];
+    c->user_data = def->user_data;
+    c->mass = def->type == NT_BODY_DYNAMIC ? def->mass : 0;
+    c->cprev = w->last;
+    c->cnext = -1;
+    if (w->last >= 0) w->cold[w->last].cnext = i;
+    else w->first = i;
+    w->last = i;
+    w->body_count++;
+    if (def->type == NT_BODY_KINEMATIC || (def->type == NT_BODY_DYNAMIC && def->is_awake)) awake_add(w, i);
+    else if (def->type == NT_BODY_DYNAMIC) b->sleep_next = i, b->v = nt_v2(0, 0);
+    if (in_grid) {
+        b->glist = b->awake_slot >= 0 ? NT__LIST_ACTIVE : NT__LIST_REST;
+        nt__grid_insert(w, i);
+    }
+    *out = make_id(w, i);
+    return NT_OK;
+}
+
+/* Wake every body in contact with body i (contacts listed or parked). */
+static void wake_partners(nt_world *w, int32_t i)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        const nt__contact *cs = pass ? w->parked : w->con;
+        int n = pass ? w->parked_count : w->con_count;
+        for (int k = 0; k < n; k++) {
+            int32_t a = (int32_t)(cs[k].key >> 32), b = (int32_t)(cs[k].key & 0xffffffffu);
+            if (a == i) nt__wake_group(w, b);
+            else if (b == i) nt__wake_group(w, a);
+        }
+    }
+}
+
+nt_status nt_body_destroy(nt_world *w, nt_body_id id)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    int32_t i = id.index1 - 1;
+    /* Bodies resting on this one must not float: wake its group and its partners. */
+    if (b->type == NT_BODY_DYNAMIC && b->awake_slot < 0) nt__wake_group(w, i);
+    wake_partners(w, i);
+    awake_remove(w, i);
+    if (b->gcell >= 0) nt__grid_remove(w, i);
+    b->flags = 0;
+    b->generation++;
+    b->sleep_next = w->free_head;
+    w->free_head = i;
+    nt__body_cold *c = &w->cold[i];
+    if (c->cprev >= 0) w->cold[c->cprev].cnext = c->cnext;
+    else w->first = c->cnext;
+    if (c->cnext >= 0) w->cold[c->cnext].cprev = c->cprev;
+    else w->last = c->cprev;
+    w->body_count--;
+    nt__unpark(w); /* its parked contacts go back to give end events */
+    return NT_OK;
+}
+
+bool nt_body_is_valid(const nt_world *w, nt_body_id id) { return get_body(w, id) != NULL; }
+
+nt_body_type nt_body_get_type(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? (nt_body_type)b->type : NT_BODY_STATIC;
+}
+
+nt_shape nt_body_get_shape(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? nt__body_shape(b) : nt_shape_aabb(0, 0);
+}
+
+nt_real nt_body_get_mass(const nt_world *w, nt_body_id id)
+{
+    return get_body(w, id) ? w->cold[id.index1 - 1].mass : 0;
+}
+
+nt_vec2 nt_body_get_position(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? b->p : nt_v2(0, 0);
+}
+
+nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (!finite2(p)) return NT_ERR_NON_FINITE;
+    int32_t i = id.index1 - 1;
+    b->p = p;
+    b->ntc = 0;
+    if (b->gcell >= 0) nt__grid_update(w, i);
+    if (b->type == NT_BODY_STATIC) wake_partners(w, i);
+    nt__wake(w, i);
+    return NT_OK;
+}
+
+nt_vec2 nt_body_get_velocity(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? b->v : nt_v2(0, 0);
+}
+
+nt_status nt_body_set_velocity(nt_world *w, nt_body_id id, nt_vec2 v)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (!finite2(v)) return NT_ERR_NON_FINITE;
+    if (b->type == NT_BODY_STATIC) return NT_ERR_INVALID_ARGUMENT;
+    int32_t i = id.index1 - 1;
+    b->v = v;
+    if (b->type == NT_BODY_KINEMATIC) wake_partners(w, i);
+    nt__wake(w, i);
+    return NT_OK;
+}
+
+nt_status nt_body_apply_impulse(nt_world *w, nt_body_id id, nt_vec2 impulse)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (!finite2(impulse)) return NT_ERR_NON_FINITE;
+    if (b->type != NT_BODY_DYNAMIC) return NT_ERR_INVALID_ARGUMENT;
+    nt_vec2 v = nt_v2(b->v.x + impulse.x * b->inv_mass, b->v.y + impulse.y * b->inv_mass);
+    if (!finite2(v)) return NT_ERR_NON_FINITE;
+    b->v = v;
+    nt__wake(w, id.index1 - 1);
+    return NT_OK;
+}
+
+nt_material nt_body_get_material(const nt_world *w, nt_body_id id)
+{
+    nt_material m = {0, 0};
+    const nt__body *b = get_body(w, id);
+    if (b) m.friction = b->friction, m.bounce = b->bounce;
+    return m;
+}
+
+nt_status nt_body_set_material(nt_world *w, nt_body_id id, nt_material m)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    nt_status s = check_material(&w->def, m);
+    if (s != NT_OK) return s;
+    b->friction = m.friction;
+    b->bounce = m.bounce;
+    return NT_OK;
+}
+
+nt_status nt_body_set_gravity_scale(nt_world *w, nt_body_id id, nt_real scale)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(scale)) return NT_ERR_NON_FINITE;
+    b->gravity_scale = scale;
+    nt__wake(w, id.index1 - 1);
+    return NT_OK;
+}
+
+nt_status nt_body_set_linear_drag(nt_world *w, nt_body_id id, nt_real drag)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(drag)) return NT_ERR_NON_FINITE;
+    if (drag < 0) return NT_ERR_INVALID_ARGUMENT;
+    b->drag = drag;
+    return NT_OK;
+}
+
+nt_status nt_body_set_filter(nt_world *w, nt_body_id id, uint32_t category, uint32_t mask)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    int32_t i = id.index1 - 1;
+    int was = b->gcell >= 0, will = category != 0 && mask != 0;
+    if (will && !w->heads) {
+        nt_status s = nt__grid_enable(w);
+        if (s != NT_OK) return s;
+    }
+    b->category = category;
+    b->mask = mask;
+    w->grid_cat |= will ? category : 0u;
+    w->grid_mask |= will ? mask : 0u;
+    if (was && !will) nt__grid_remove(w, i);
+    if (!was && will) {
+        b->glist = b->awake_slot >= 0 ? NT__LIST_ACTIVE : NT__LIST_REST;
+        nt__grid_insert(w, i);
+    }
+    wake_partners(w, i);
+    nt__wake(w, i);
+    return NT_OK;
+}
+
+uint32_t nt_body_get_category(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? b->category : 0;
+}
+
+uint32_t nt_body_get_mask(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b ? b->mask : 0;
+}
+
+bool nt_body_is_awake(const nt_world *w, nt_body_id id)
+{
+    const nt__body *b = get_body(w, id);
+    return b && b->awake_slot >= 0;
+}
+
+nt_status nt_body_set_awake(nt_world *w, nt_body_id id, bool awake)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    int32_t i = id.index1 - 1;
+    if (b->type != NT_BODY_DYNAMIC) return NT_OK;
+    if (awake) {
+        nt__wake(w, i);
+    } else if (b->awake_slot >= 0) {
+        nt__sleep_body(w, i);
+        b->sleep_next = i; /* a group of its own */
+    }
+    return NT_OK;
+}
+
+nt_status nt_body_enable_sleep(nt_world *w, nt_body_id id, bool enable)
+{
+    nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    if (enable) {
+        b->flags |= NT__BF_SLEEP_OK;
+    } else {
+        b->flags &= (uint8_t)~NT__BF_SLEEP_OK;
+        nt__wake(w, id.index1 - 1);
+    }
+    return NT_OK;
+}
+
+void *nt_body_get_user_data(const nt_world *w, nt_body_id id)
+{
+    return get_body(w, id) ? w->cold[id.index1 - 1].user_data : NULL;
+}
+
+nt_status nt_body_set_user_data(nt_world *w, nt_body_id id, void *user_data)
+{
+    if (!get_body(w, id)) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    w->cold[id.index1 - 1].user_data = user_data;
+    return NT_OK;
+}
+
+nt_status nt_body_get_tile_contacts(const nt_world *w, nt_body_id id, nt_body_tile_contacts *out)
+{
+    if (!out) return NT_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    const nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    out->count = b->ntc;
+    for (int k = 0; k < b->ntc; k++) {
+        const nt__tile_ct *t = &b->tc[k];
+        out->contacts[k].normal = t->n;
+        out->contacts[k].depth = t->depth;
+        out->contacts[k].cell_x = t->cx;
+        out->contacts[k].cell_y = t->cy;
+        if (t->n.y <= R(-0.5)) {
+            /* The flattest floor wins. */
+            if (!out->on_floor || t->n.y < out->floor_normal.y) out->floor_normal = t->n;
+            out->on_floor = true;
+        }
+        if (t->n.y >= R(0.5)) out->on_ceiling = true;
+        if (t->n.x >= R(0.5)) out->wall_left = true;
+        if (t->n.x <= R(-0.5)) out->wall_right = true;
+    }
+    return NT_OK;
+}
+
+/* ---------------------------------------------------------------- events */
+
+nt_contact_events nt_world_get_contact_events(const nt_world *w)
+{
+    nt_contact_events e;
+    memset(&e, 0, sizeof e);
+    if (!w) return e;
+    e.begin_events = w->ev_begin;
+    e.begin_count = w->n_begin;
+    e.end_events = w->ev_end;
+    e.end_count = w->n_end;
+    e.hit_events = w->ev_hit;
+    e.hit_count = w->n_hit;
+    return e;
+}
+
+nt_sensor_events nt_world_get_sensor_events(const nt_world *w)
+{
+    nt_sensor_events e;
+    memset(&e, 0, sizeof e);
+    if (!w) return e;
+    e.begin_events = w->ev_sbegin;
+    e.begin_count = w->n_sbegin;
+    e.end_events = w->ev_send;
+    e.end_count = w->n_send;
+    return e;
+}
+
+/* ---------------------------------------------------------------- hash */
+
+static uint64_t fnv_real(uint64_t h, nt_real x)
+{
+    unsigned char bytes[sizeof(nt_real)];
+    memcpy(bytes, &x, sizeof x);
+    for (size_t k = 0; k < sizeof bytes; k++) {
+        h ^= bytes[k];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+uint64_t nt_world_hash(const nt_world *w)
+{
+    uint64_t h = 14695981039346656037ull;
+    if (!w) return h;
+    for (int32_t i = w->first; i >= 0; i = w->cold[i].cnext) {
+        const nt__body *b = &w->bodies[i];
+        h = fnv_real(h, b->p.x);
+        h = fnv_real(h, b->p.y);
+        h = fnv_real(h, b->v.x);
+        h = fnv_real(h, b->v.y);
+    }
+    return h;
+}
+
+/* ---------------------------------------------------------------- queries */
+
+nt_query_filter nt_default_query_filter(void)
+{
+    nt_query_filter f;
+    f.mask = 0xffffffffu;
+    f.tiles = true;
+    return f;
+}
+
+static int query_sees(const nt__body *b, nt_query_filter f)
+{
+    return !(b->flags & NT__BF_SENSOR) && (b->category & f.mask) != 0;
+}
+
+/* Segment p0 + t d (t in [0, 1]) entering a body's interior: first t and normal. */
+static int ray_body(const nt__body *b, nt_vec2 p0, nt_vec2 d, nt_real *t_out, nt_vec2 *n_out)
+{
+    nt_vec2 m = nt__sub(p0, b->p);
+    if (b->shape == NT_SHAPE_CIRCLE) {
+        nt_real r = b->half.x;
+        nt_real c = nt__dot(m, m) - r * r;
+        if (c < 0) {
+            *t_out = 0;
+            *n_out = nt_v2(0, 0);
+            return 1;
+        }
+        nt_real a = nt__dot(d, d);
+        if (a <= 0) return 0;
+        nt_real bb = nt__dot(m, d);
+        if (bb >= 0) return 0; /* moving away (or tangent from the surface) */
+        nt_real disc = bb * bb - a * c;
+        if (disc <= 0) return 0; /* misses or grazes */
+        nt_real t = (-bb - nt__sqrt(disc)) / a;
+        if (t < 0) t = 0;
+        if (t > 1) return 0;
+        nt_vec2 q = nt__add(m, nt__scale(d, t));
+        nt_real len = nt__len(q);
+        *t_out = t;
+        *n_out = len > 0 ? nt__scale(q, 1 / len) : nt_v2(0, 0);
+        return 1;
+    }
+    /* Slabs: the segment is inside the open box for t in (tenter, texit). */
+    nt_real tenter = -NT_REAL_MAX, texit = NT_REAL_MAX;
+    int axis = -1;
+    nt_real comp[2] = {m.x, m.y}, dir[2] = {d.x, d.y}, half[2] = {b->half.x, b->half.y};
+    for (int k = 0; k < 2; k++) {
+        if (dir[k] == 0) {
+            if (comp[k] <= -half[k] || comp[k] >= half[k]) return 0;
+            continue;
+        }
+        nt_real inv = 1 / dir[k];
+        nt_real t1 = (-half[k] - comp[k]) * inv, t2 = (half[k] - comp[k]) * inv;
+        if (t1 > t2) {
+            nt_real tt = t1;
+            t1 = t2;
+            t2 = tt;
+        }
+        if (t1 > tenter) {
+            tenter = t1;
+            axis = k;
+        }
+        if (t2 < texit) texit = t2;
+    }
+    if (!(tenter < texit) || texit <= 0) return 0;
+    if (tenter < 0) {
+        *t_out = 0;
+        *n_out = nt_v2(0, 0);
+        return 1;
+    }
+    if (tenter > 1) return 0;
+    *t_out = tenter;
+    *n_out = axis == 0 ? nt_v2(d.x > 0 ? R(-1) : R(1), 0) : nt_v2(0, d.y > 0 ? R(-1) : R(1));
+    return 1;
+}
+
+static void cell_clamped(const nt_world *w, int x, int y, int *cx, int *cy)
+{
+    *cx = x < 0 ? 0 : (x >= w->grid_w ? w->grid_w - 1 : x);
+    *cy = y < 0 ? 0 : (y >= w->grid_h ? w->grid_h - 1 : y);
+}
+
+bool nt_world_raycast(const nt_world *w, nt_vec2 p0, nt_vec2 p1, nt_query_filter filter, nt_world_ray_hit *out)
+{
+    nt_world_ray_hit best;
+    memset(&best, 0, sizeof best);
+    best.fraction = 2;
+    if (out) memset(out, 0, sizeof *out);
+    if (!w || !finite2(p0) || !finite2(p1)) return false;
+    if (filter.tiles) {
+        nt_ray_hit h;
+        if (nt_map_raycast(w->map, p0, p1, &h)) {
+            best.fraction = h.fraction;
+            best.point = h.point;
+            best.normal = h.normal;
+            best.cell_x = h.cell_x;
+            best.cell_y = h.cell_y;
+        }
+    }
+    if (w->heads && w->grid_bodies > 0 && filter.mask != 0) {
+        nt_vec2 d = nt__sub(p1, p0);
+        nt_real ic = w->inv_cell;
+        /* Walk the cells the segment crosses; a body can reach 1.5 cells from its cell. */
+        int cx = nt__floor_int(p0.x * ic), cy = nt__floor_int(p0.y * ic);
+        int ex = nt__floor_int(p1.x * ic), ey = nt__floor_int(p1.y * ic);
+        int sx = d.x > 0 ? 1 : (d.x < 0 ? -1 : 0), sy = d.y > 0 ? 1 : (d.y < 0 ? -1 : 0);
+        nt_real tdx = sx ? w->cell / nt__fabs(d.x) : NT_REAL_MAX, tdy = sy ? w->cell / nt__fabs(d.y) : NT_REAL_MAX;
+        nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * w->cell - p0.x) / d.x : NT_REAL_MAX;
+        nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * w->cell - p0.y) / d.y : NT_REAL_MAX;
+        nt_real len = nt__len(d);
+        nt_real reach = len > 0 ? R(2) * w->cell / len : NT_REAL_MAX;
+        nt_real t_cell = 0;
+        long guard = (long)(nt__fabs((nt_real)(ex - cx)) + nt__fabs((nt_real)(ey - cy))) + 2;
+        for (long step = 0; step <= guard; step++) {
+            if (t_cell > 1 || t_cell > best.fraction + reach) break;
+            for (int oy = -1; oy <= 1; oy++)
+                for (int ox = -1; ox <= 1; ox++) {
+                    int gx, gy;
+                    cell_clamped(w, cx + ox, cy + oy, &gx, &gy);
+                    int32_t cell = gy * w->grid_w + gx;
+                    for (int list = 0; list < 2; list++)
+                        for (int32_t j = w->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
+                            const nt__body *b = &w->bodies[j];
+                            if (!query_sees(b, filter)) continue;
+                            nt_real t;
+                            nt_vec2 n;
+                            if (ray_body(b, p0, d, &t, &n) && t < best.fraction) {
+                                best.fraction = t;
+                                best.body = make_id(w, j);
+                                best.normal = n;
+                                best.point = nt__add(p0, nt__scale(d, t));
+                                best.cell_x = best.cell_y = 0;
+                            }
+                        }
+                }
+            if (cx == ex && cy == ey) break;
+            if (tx < ty) {
+                t_cell = tx;
+                tx += tdx;
+                cx += sx;
+            } else {
+                t_cell = ty;
+                ty += tdy;
+                cy += sy;
+            }
+        }
+    }
+    if (best.fraction > 1) return false;
+    if (out) *out = best;
+    return true;
+}
+
+typedef struct point_ctx {
+    nt_vec2 lo, hi;
+    nt_query_filter filter;
+    nt_query_fn *fn;
+    void *user;
+    int count, stop, point;
+} point_ctx;
+
+static bool overlap_visit(const nt_world *w, int32_t i, void *vctx)
+{
+    point_ctx *q = (point_ctx *)vctx;
+    const nt__body *b = &w->bodies[i];
+    if (!query_sees(b, q->filter)) return true;
+    int hit;
+    if (q->point) {
+        nt_real dx = q->lo.x - b->p.x, dy = q->lo.y - b->p.y;
+        hit = b->shape == NT_SHAPE_CIRCLE ? dx * dx + dy * dy < b->half.x * b->half.x
+                                          : nt__fabs(dx) < b->half.x && nt__fabs(dy) < b->half.y;
+    } else if (b->shape == NT_SHAPE_CIRCLE) {
+        nt_real cx = nt__clamp(b->p.x, q->lo.x, q->hi.x), cy = nt__clamp(b->p.y, q->lo.y, q->hi.y);
+        nt_real dx = b->p.x - cx, dy = b->p.y - cy;
+        hit = dx * dx + dy * dy < b->half.x * b->half.x;
+    } else {
+        hit = b->p.x - b->half.x < q->hi.x && b->p.x + b->half.x > q->lo.x && b->p.y - b->half.y < q->hi.y &&
+              b->p.y + b->half.y > q->lo.y;
+    }
+    if (!hit) return true;
+    q->count++;
+    if (q->fn && !q->fn(make_id(w, i), q->user)) {
+        q->stop = 1;
+        return false;
+    }
+    return true;
+}
+
+int nt_world_query_point(const nt_world *w, nt_vec2 p, nt_query_filter filter, nt_query_fn *fn, void *context)
+{
+    if (!w || !finite2(p) || !w->heads) return 0;
+    point_ctx q;
+    memset(&q, 0, sizeof q);
+    q.lo = q.hi = p;
+    q.filter = filter;
+    q.fn = fn;
+    q.user = context;
+    q.point = 1;
+    nt__grid_visit(w, p, p, overlap_visit, &q);
+    return q.count;
+}
+
+int nt_world_overlap_aabb(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt_query_filter filter, nt_query_fn *fn,
+                          void *context)
+{
+    if (!w || !finite2(lo) || !finite2(hi) || lo.x > hi.x || lo.y > hi.y || !w->heads) return 0;
+    point_ctx q;
+    memset(&q, 0, sizeof q);
+    q.lo = lo;
+    q.hi = hi;
+    q.filter = filter;
+    q.fn = fn;
+    q.user = context;
+    nt__grid_visit(w, lo, hi, overlap_visit, &q);
+    return q.count;
+}
+
+/* ---------------------------------------------------------------- debug draw */
+
+nt_debug_draw nt_default_debug_draw(void)
+{
+    nt_debug_draw d;
+    memset(&d, 0, sizeof d);
+    d.draw_tiles = true;
+    d.draw_bodies = true;
+    return d;
+}
+
+static void draw_tile(const nt_debug_draw *dd, int t, nt_real ox, nt_real oy, nt_real s)
+{
+    const nt_tile_info *info = &nt__tiles[t];
+    nt_vec2 pts[4 + 9];
+    int n = 0;
+    for (int k = 0; k < info->vertex_count; k++)
+        pts[n++] = nt_v2(ox + info->vertices[k].x * s, oy + info->vertices[k].y * s);
+    if (info->cls == NT_CLASS_CONVEX || info->cls == NT_CLASS_CONCAVE) {
+        /* The arc runs from the last straight corner back to the first. */
+        nt_vec2 c = info->arc_center;
+        nt_vec2 u0 = nt__sub(info->vertices[info->vertex_count - 1], c), u1 = nt__sub(info->vertices[0], c);
+        for (int k = 1; k < 9; k++) {
+            nt_real f = (nt_real)k / 9;
+            nt_vec2 u = nt__add(nt__scale(u0, 1 - f), nt__scale(u1, f));
+            nt_real len = nt__len(u);
+            if (len > 0) u = nt__scale(u, 1 / len);
+            pts[n++] = nt_v2(ox + (c.x + u.x) * s, oy + (c.y + u.y) * s);
+        }
+    }
+    dd->draw_polygon(pts, n, info->cls == NT_CLASS_POLYGON ? 0x9fa8b3u : 0xb3a89fu, dd->context);
+}
+
+void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
+{
+    if (!w || !dd) return;
+    nt_real s = w->cell, ic = w->inv_cell;
+    int x0 = 0, y0 = 0, x1 = w->map->w - 1, y1 = w->map->h - 1;
+    nt_vec2 lo = dd->bounds_lo, hi = dd->bounds_hi;
+    if (dd->use_bounds) {
+        int bx0 = nt__floor_int(lo.x * ic), by0 = nt__floor_int(lo.y * ic);
+        int bx1 = nt__floor_int(hi.x * ic), by1 = nt__floor_int(hi.y * ic);
+        if (bx0 > x0) x0 = bx0;
+        if (by0 > y0) y0 = by0;
+        if (bx1 < x1) x1 = bx1;
+        if (by1 < y1) y1 = by1;
+    }
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt_real ox = (nt_real)x * s, oy = (nt_real)y * s;
+            int t = nt__map_tile(w->map, x, y);
+            if (dd->draw_tiles && dd->draw_polygon && t != NT_TILE_EMPTY) draw_tile(dd, t, ox, oy, s);
+            if (dd->draw_edges && dd->draw_segment) {
+                for (int side = 0; side < 4; side++) {
+                    nt_edge e = nt_map_get_edge(w->map, x, y, (nt_side)side);
+                    if (e == NT_EDGE_OFF) continue;
+                    nt_vec2 a, b;
+                    switch (side) {
+                    case NT_SIDE_LEFT: a = nt_v2(ox, oy), b = nt_v2(ox, oy + s); break;
+                    case NT_SIDE_RIGHT: a = nt_v2(ox + s, oy), b = nt_v2(ox + s, oy + s); break;
+                    case NT_SIDE_TOP: a = nt_v2(ox, oy), b = nt_v2(ox + s, oy); break;
+                    default: a = nt_v2(ox, oy + s), b = nt_v2(ox + s, oy + s); break;
+                    }
+                    dd->draw_segment(a, b, e == NT_EDGE_SOLID ? 0xe04040u : 0xe0e040u, dd->context);
+                }
+            }
+            if (dd->draw_grid && dd->draw_polygon && w->heads) {
+                int32_t cell = y * w->grid_w + x;
+                if (w->heads[2 * cell] >= 0 || w->heads[2 * cell + 1] >= 0) {
+                    nt_vec2 q[4] = {nt_v2(ox, oy), nt_v2(ox, oy + s), nt_v2(ox + s, oy + s), nt_v2(ox + s, oy)};
+                    dd->draw_polygon(q, 4, 0x404080u, dd->context);
+                }
+            }
+        }
+    for (int32_t i = w->first; i >= 0; i = w->cold[i].cnext) {
+        const nt__body *b = &w->bodies[i];
+        if (dd->use_bounds && (b->p.x + b->half.x < lo.x || b->p.x - b->half.x > hi.x ||
+                               b->p.y + b->half.y < lo.y || b->p.y - b->half.y > hi.y))
+            continue;
+        if (dd->draw_bodies) {
+            uint32_t color = b->type == NT_BODY_STATIC ? 0x80e680u
+                             : b->type == NT_BODY_KINEMATIC ? 0x8080e6u
+                             : b->awake_slot >= 0 ? 0xe6b34du
+                                                  : 0x808080u;
+            if (b->flags & NT__BF_SENSOR) color = 0xe680e6u;
+            if (b->shape == NT_SHAPE_CIRCLE) {
+                if (dd->draw_circle) dd->draw_circle(b->p, b->half.x, color, dd->context);
+            } else if (dd->draw_box) {
+                dd->draw_box(nt__sub(b->p, b->half), nt__add(b->p, b->half), color, dd->context);
+            }
+        }
+        if (dd->draw_velocities && dd->draw_segment && b->type != NT_BODY_STATIC)
+            dd->draw_segment(b->p, nt__add(b->p, nt__scale(b->v, R(0.1))), 0x40c0c0u, dd->context);
+        if (dd->draw_tile_contacts && dd->draw_segment)
+            for (int k = 0; k < b->ntc; k++)
+                dd->draw_segment(b->p, nt__add(b->p, nt__scale(b->tc[k].n, s * R(0.5))), 0xe08040u, dd->context);
+    }
+    if (dd->draw_contacts && dd->draw_segment)
+        for (int k = 0; k < w->con_count; k++) {
+            const nt__contact *c = &w->con[k];
+            const nt__body *a = &w->bodies[c->key >> 32], *b = &w->bodies[c->key & 0xffffffffu];
+            nt_vec2 mid = nt__scale(nt__add(a->p, b->p), R(0.5));
+            dd->draw_segment(mid, nt__add(mid, nt__scale(c->n, s * R(0.3))), 0xffffffu, dd->context);
+        }
+}

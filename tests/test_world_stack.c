@@ -1,0 +1,311 @@
+/* Resting contact: a stack of 20 boxes and a pile of 500 mixed bodies settle and
+ * stay settled for 10,000 steps, free of the tiles; sleeping groups and every way
+ * of waking them. Units: cell 1, seconds, g = 10 cells/s^2, dt = 1/60. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "ntile/ntile.h"
+#include "ntile/world.h"
+
+#define R(x) ((nt_real)(x))
+static const nt_real DT = R(1.0 / 60);
+
+static nt_world *make_world(int w, int h, nt_friction_model model, nt_real friction, bool sleep)
+{
+    nt_world_def d = nt_default_world_def();
+    d.map.width = w;
+    d.map.height = h;
+    d.map.cell_size = 1;
+    d.gravity = nt_v2(0, 10);
+    d.friction_model = model;
+    d.tile_material.friction = friction;
+    d.tile_material.bounce = 0;
+    d.restitution_threshold = R(0.5);
+    d.hit_event_threshold = R(0.5);
+    d.enable_sleep = sleep;
+    d.sleep_speed = R(0.05);
+    d.sleep_time = R(0.5);
+    nt_world *world = NULL;
+    assert_int_equal(nt_world_create(&d, &world), NT_OK);
+    return world;
+}
+
+static nt_body_id add(nt_world *w, nt_shape s, double x, double y, double mass, nt_real friction)
+{
+    nt_body_def d = nt_default_body_def();
+    d.shape = s;
+    d.position = nt_v2((nt_real)x, (nt_real)y);
+    d.mass = (nt_real)mass;
+    d.material.friction = friction;
+    d.material.bounce = 0;
+    nt_body_id id;
+    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
+    return id;
+}
+
+static void floor_and_walls(nt_world *w, int W, int H)
+{
+    for (int x = 0; x < W; x++) nt_world_set_tile(w, x, H - 1, NT_TILE_FULL);
+    for (int y = 0; y < H; y++) {
+        nt_world_set_tile(w, 0, y, NT_TILE_FULL);
+        nt_world_set_tile(w, W - 1, y, NT_TILE_FULL);
+    }
+}
+
+/* Deepest overlap between any two of the bodies (exact, any shapes). */
+static double max_pair_overlap(const nt_world *w, const nt_body_id *ids, int n)
+{
+    double worst = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) {
+            nt_mtv m;
+            if (nt_collide_shapes(nt_body_get_position(w, ids[i]), nt_body_get_shape(w, ids[i]),
+                                  nt_body_get_position(w, ids[j]), nt_body_get_shape(w, ids[j]), &m) &&
+                m.depth > worst)
+                worst = m.depth;
+        }
+    return worst;
+}
+
+static double max_tile_overlap(const nt_world *w, const nt_body_id *ids, int n)
+{
+    double worst = 0;
+    for (int i = 0; i < n; i++) {
+        double d = nt_map_overlap_depth(nt_world_get_map(w), nt_body_get_position(w, ids[i]), nt_body_get_shape(w, ids[i]));
+        if (d > worst) worst = d;
+    }
+    return worst;
+}
+
+/* Settled: for 10,000 more steps nobody moves more than `drift` from where it was,
+ * nobody overlaps a tile by more than 1e-3 cell, no pair overlaps by more than
+ * `pair_tol`. Checked every 100 steps. */
+static void check_stays_settled(nt_world *w, const nt_body_id *ids, int n, double drift, double pair_tol)
+{
+    nt_vec2 *ref = (nt_vec2 *)malloc((size_t)n * sizeof *ref);
+    for (int i = 0; i < n; i++) ref[i] = nt_body_get_position(w, ids[i]);
+    double worst_drift = 0, worst_tile = 0, worst_pair = 0;
+    for (int s = 1; s <= 10000; s++) {
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        if (s % 100) continue;
+        for (int i = 0; i < n; i++) {
+            nt_vec2 p = nt_body_get_position(w, ids[i]);
+            worst_drift = fmax(worst_drift, hypot((double)p.x - ref[i].x, (double)p.y - ref[i].y));
+        }
+        worst_tile = fmax(worst_tile, max_tile_overlap(w, ids, n));
+        if (s % 2000 == 0) worst_pair = fmax(worst_pair, max_pair_overlap(w, ids, n));
+    }
+    printf("  drift %.3g cell, tile overlap %.3g cell, pair overlap %.3g cell\n", worst_drift, worst_tile, worst_pair);
+    assert_true(worst_drift < drift);
+    assert_true(worst_tile < 1e-3);
+    assert_true(worst_pair < pair_tol);
+    free(ref);
+}
+
+/* ---------------------------------------------------------------- stack */
+
+static void run_stack(nt_friction_model model, nt_real friction, bool sleep)
+{
+    const int W = 10, H = 30, N = 20;
+    nt_world *w = make_world(W, H, model, friction, sleep);
+    floor_and_walls(w, W, H);
+    nt_body_id ids[20];
+    for (int i = 0; i < N; i++) ids[i] = add(w, nt_shape_aabb(R(0.4), R(0.4)), 5, 28.6 - 0.81 * i, 1 + (i % 3), friction);
+    for (int s = 0; s < 1000; s++) assert_int_equal(nt_world_step(w, DT), NT_OK);
+    /* Where a perfect stack stands (every contact keeps a skin of 2.5e-4 cell). */
+    for (int i = 0; i < N; i++) {
+        nt_vec2 p = nt_body_get_position(w, ids[i]);
+        assert_true(fabs((double)p.x - 5) < 1e-4);
+        assert_true(fabs((double)p.y - (28.6 - 0.8 * i)) < 0.01);
+    }
+    if (sleep) assert_int_equal(nt_world_get_awake_count(w), 0);
+    check_stays_settled(w, ids, N, 1e-4, 2e-3);
+    nt_world_destroy(w);
+}
+
+static void test_stack_of_20(void **state)
+{
+    (void)state;
+    run_stack(NT_FRICTION_COULOMB, R(0.6), false);
+    run_stack(NT_FRICTION_N, R(0.1), false);
+    run_stack(NT_FRICTION_COULOMB, R(0.6), true);
+}
+
+/* ---------------------------------------------------------------- pile */
+
+static void run_pile(bool sleep)
+{
+    const int W = 26, H = 44, N = 500;
+    nt_world *w = make_world(W, H, NT_FRICTION_COULOMB, R(0.5), sleep);
+    floor_and_walls(w, W, H);
+    nt_world_set_tile(w, 1, H - 2, NT_TILE_45DEGnn); /* a wedge in one corner */
+    nt_world_set_tile(w, W - 2, H - 2, NT_TILE_CONCAVEnn);
+    static nt_body_id ids[500];
+    unsigned seed = 12345;
+    for (int i = 0; i < N; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        double r = 0.2 + 0.25 * (double)(seed >> 8) / 16777216.0;
+        seed = seed * 1664525u + 1013904223u;
+        double r2 = 0.2 + 0.25 * (double)(seed >> 8) / 16777216.0;
+        nt_shape s = (i % 2) ? nt_shape_circle((nt_real)r) : nt_shape_aabb((nt_real)r, (nt_real)r2);
+        seed = seed * 1664525u + 1013904223u;
+        ids[i] = add(w, s, 1.5 + (i % 23), H - 3 - (i / 23) * 1.0 - 0.3 * (double)(seed >> 8) / 16777216.0,
+                     0.5 + (double)(seed >> 20) / 4096.0, R(0.5));
+    }
+    for (int s = 0; s < 3000; s++) assert_int_equal(nt_world_step(w, DT), NT_OK);
+    if (sleep) assert_int_equal(nt_world_get_awake_count(w), 0);
+    check_stays_settled(w, ids, N, 1e-3, 0.02);
+    nt_world_destroy(w);
+}
+
+static void test_pile_of_500(void **state)
+{
+    (void)state;
+    run_pile(false);
+    run_pile(true);
+}
+
+/* ---------------------------------------------------------------- sleeping */
+
+static void test_sleep_and_wake_on_touch(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(12, 12, NT_FRICTION_COULOMB, R(0.5), true);
+    floor_and_walls(w, 12, 12);
+    nt_body_id a = add(w, nt_shape_aabb(R(0.4), R(0.4)), 4, R(10.6), 1, R(0.5));
+    int steps = 0;
+    while (nt_body_is_awake(w, a) && steps < 200) nt_world_step(w, DT), steps++;
+    /* Rested from the first step: asleep after sleep_time (0.5 s = 30 steps). */
+    assert_true(steps >= 30 && steps <= 32);
+    assert_int_equal(nt_world_get_awake_count(w), 0);
+    nt_vec2 v = nt_body_get_velocity(w, a);
+    assert_true(v.x == 0 && v.y == 0);
+    /* Asleep bodies do not move, whatever the steps. */
+    nt_vec2 p = nt_body_get_position(w, a);
+    for (int i = 0; i < 100; i++) nt_world_step(w, DT);
+    assert_true(nt_body_get_position(w, a).y == p.y);
+    /* A falling body lands on it: both awake, then both asleep again. */
+    nt_body_id b = add(w, nt_shape_circle(R(0.3)), 4, 6, 1, R(0.5));
+    int woke = 0;
+    for (int i = 0; i < 60 && !woke; i++) {
+        nt_world_step(w, DT);
+        woke = nt_body_is_awake(w, a);
+    }
+    assert_true(woke);
+    for (int i = 0; i < 300; i++) nt_world_step(w, DT);
+    assert_false(nt_body_is_awake(w, a));
+    assert_false(nt_body_is_awake(w, b));
+    nt_world_destroy(w);
+}
+
+static void test_wake_on_tile_edit_and_api(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(12, 12, NT_FRICTION_COULOMB, R(0.5), true);
+    floor_and_walls(w, 12, 12);
+    nt_world_set_tile(w, 5, 8, NT_TILE_FULL); /* a ledge */
+    nt_body_id a = add(w, nt_shape_aabb(R(0.3), R(0.3)), R(5.5), R(7.7), 1, R(0.5));
+    nt_body_id far = add(w, nt_shape_aabb(R(0.3), R(0.3)), R(9.5), R(10.7), 1, R(0.5));
+    for (int i = 0; i < 100; i++) nt_world_step(w, DT);
+    assert_false(nt_body_is_awake(w, a));
+    assert_false(nt_body_is_awake(w, far));
+    /* Remove the ledge: the body on it wakes and falls to the floor; the far one sleeps on. */
+    assert_int_equal(nt_world_set_tile(w, 5, 8, NT_TILE_EMPTY), NT_OK);
+    assert_true(nt_body_is_awake(w, a));
+    assert_false(nt_body_is_awake(w, far));
+    for (int i = 0; i < 100; i++) nt_world_step(w, DT);
+    assert_true(fabs((double)nt_body_get_position(w, a).y - 10.7) < 1e-3);
+    /* API calls wake. */
+    for (int i = 0; i < 100; i++) nt_world_step(w, DT);
+    assert_false(nt_body_is_awake(w, a));
+    assert_int_equal(nt_body_apply_impulse(w, a, nt_v2(0, -3)), NT_OK);
+    assert_true(nt_body_is_awake(w, a));
+    assert_int_equal(nt_body_set_awake(w, a, false), NT_OK);
+    assert_false(nt_body_is_awake(w, a));
+    assert_int_equal(nt_body_set_awake(w, a, true), NT_OK);
+    assert_true(nt_body_is_awake(w, a));
+    /* A body that may not sleep never does. */
+    assert_int_equal(nt_body_enable_sleep(w, far, false), NT_OK);
+    assert_true(nt_body_is_awake(w, far));
+    for (int i = 0; i < 200; i++) nt_world_step(w, DT);
+    assert_true(nt_body_is_awake(w, far));
+    assert_false(nt_body_is_awake(w, a));
+    /* Gravity changes wake everyone. */
+    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, -10)), NT_OK);
+    assert_true(nt_body_is_awake(w, a));
+    nt_world_destroy(w);
+}
+
+/* A sleeping stack sleeps as one group: taking the bottom away wakes the rest. */
+static void test_sleeping_group(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(12, 14, NT_FRICTION_COULOMB, R(0.5), true);
+    floor_and_walls(w, 12, 14);
+    nt_body_def sd = nt_default_body_def();
+    sd.type = NT_BODY_STATIC;
+    sd.shape = nt_shape_aabb(R(0.5), R(0.5));
+    sd.position = nt_v2(6, R(10.5));
+    nt_body_id pedestal;
+    assert_int_equal(nt_body_create(w, &sd, &pedestal), NT_OK);
+    nt_body_id s[3];
+    for (int i = 0; i < 3; i++) s[i] = add(w, nt_shape_aabb(R(0.4), R(0.4)), 6, 9.6 - 0.8 * i, 1, R(0.5));
+    for (int i = 0; i < 120; i++) nt_world_step(w, DT);
+    for (int i = 0; i < 3; i++) assert_false(nt_body_is_awake(w, s[i]));
+    /* Waking the top one wakes the whole group. */
+    assert_int_equal(nt_body_set_awake(w, s[2], true), NT_OK);
+    for (int i = 0; i < 3; i++) assert_true(nt_body_is_awake(w, s[i]));
+    for (int i = 0; i < 120; i++) nt_world_step(w, DT);
+    for (int i = 0; i < 3; i++) assert_false(nt_body_is_awake(w, s[i]));
+    /* Moving the static pedestal away wakes what rests on it, and it all falls. */
+    assert_int_equal(nt_body_set_position(w, pedestal, nt_v2(2, 2)), NT_OK);
+    for (int i = 0; i < 3; i++) assert_true(nt_body_is_awake(w, s[i]));
+    for (int i = 0; i < 200; i++) nt_world_step(w, DT);
+    assert_true(fabs((double)nt_body_get_position(w, s[0]).y - 12.6) < 1e-2);
+    for (int i = 0; i < 200; i++) nt_world_step(w, DT);
+    /* Destroying the bottom body of a sleeping group wakes the others. */
+    for (int i = 0; i < 3; i++) assert_false(nt_body_is_awake(w, s[i]));
+    assert_int_equal(nt_body_destroy(w, s[0]), NT_OK);
+    assert_true(nt_body_is_awake(w, s[1]));
+    assert_true(nt_body_is_awake(w, s[2]));
+    for (int i = 0; i < 200; i++) nt_world_step(w, DT);
+    assert_true(fabs((double)nt_body_get_position(w, s[1]).y - 12.6) < 1e-2);
+    nt_world_destroy(w);
+}
+
+/* Asleep bodies cost nothing: the simulated count is what is awake. */
+static void test_asleep_bodies_are_not_simulated(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 12, NT_FRICTION_COULOMB, R(0.5), true);
+    floor_and_walls(w, 40, 12);
+    for (int i = 0; i < 100; i++) add(w, nt_shape_circle(R(0.2)), 1.5 + (i % 37), 10.7 - 0.5 * (i / 37), 1, R(0.5));
+    for (int i = 0; i < 400; i++) nt_world_step(w, DT);
+    assert_int_equal(nt_world_get_awake_count(w), 0);
+    nt_world_step(w, DT);
+    nt_world_counters c = nt_world_get_counters(w);
+    assert_int_equal(c.awake_count, 0);
+    assert_int_equal(c.substep_count, 0);
+    assert_int_equal(c.pair_tests, 0);
+    assert_int_equal(c.body_count, 100);
+    nt_world_destroy(w);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_stack_of_20),
+        cmocka_unit_test(test_pile_of_500),
+        cmocka_unit_test(test_sleep_and_wake_on_touch),
+        cmocka_unit_test(test_wake_on_tile_edit_and_api),
+        cmocka_unit_test(test_sleeping_group),
+        cmocka_unit_test(test_asleep_bodies_are_not_simulated),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
