@@ -96,7 +96,18 @@ struct nt_map {
     int w, h;
     nt_real cell, inv_cell;
     nt__cell *cells;
+    /* Bit per cell: the cell and its 8 neighbours are all EMPTY cells of the map, so
+     * an object centred in it (at most half a cell) touches nothing. Small enough to
+     * stay in L1 for big maps: the test every body in the air makes each step. */
+    uint64_t *open3;
 };
+
+static inline int nt__map_open3(const nt_map *map, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return 0;
+    size_t i = (size_t)y * (size_t)map->w + (size_t)x;
+    return (int)((map->open3[i >> 6] >> (i & 63)) & 1u);
+}
 
 /* Cell data for any coordinate: cells outside the map are FULL border cells. */
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
@@ -203,6 +214,7 @@ struct nt_world {
     uint32_t grid_cat, grid_mask; /* union of their categories and masks (never shrinks) */
 
     int32_t *heads;            /* broad phase: 2 list heads per cell; NULL until needed */
+    uint64_t *occupied;        /* bit per list head: the list is not empty (L1-sized, read first) */
     int grid_w, grid_h;
 
     nt__contact *con, *con_new, *con_tmp, *parked;

@@ -16,9 +16,16 @@ nt_status nt__grid_enable(nt_world *w)
     if (w->heads) return NT_OK;
     size_t n = 2 * (size_t)w->grid_w * (size_t)w->grid_h;
     int32_t *h = (int32_t *)nt__alloc(n * sizeof *h);
-    if (!h) return NT_ERR_OUT_OF_MEMORY;
+    uint64_t *occ = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *occ);
+    if (!h || !occ) {
+        nt__free(h);
+        nt__free(occ);
+        return NT_ERR_OUT_OF_MEMORY;
+    }
     memset(h, 0xff, n * sizeof *h); /* -1 everywhere */
+    memset(occ, 0, ((n + 63) / 64) * sizeof *occ);
     w->heads = h;
+    w->occupied = occ;
     return NT_OK;
 }
 
@@ -42,6 +49,12 @@ static inline void link(nt_world *w, int32_t i, int32_t head)
     b->gnext = first;
     if (first >= 0) w->bodies[first].gprev = i;
     w->heads[head] = i;
+    w->occupied[(uint32_t)head >> 6] |= (uint64_t)1 << (head & 63);
+}
+
+static inline int occupied(const nt_world *w, int32_t head)
+{
+    return (int)((w->occupied[(uint32_t)head >> 6] >> (head & 63)) & 1u);
 }
 
 static inline void unlink(nt_world *w, int32_t i)
@@ -49,7 +62,10 @@ static inline void unlink(nt_world *w, int32_t i)
     nt__body *b = &w->bodies[i];
     w->grid_rest -= b->gcell & 1;
     if (b->gprev >= 0) w->bodies[b->gprev].gnext = b->gnext;
-    else w->heads[b->gcell] = b->gnext;
+    else {
+        w->heads[b->gcell] = b->gnext;
+        if (b->gnext < 0) w->occupied[(uint32_t)b->gcell >> 6] &= ~((uint64_t)1 << (b->gcell & 63));
+    }
     if (b->gnext >= 0) w->bodies[b->gnext].gprev = b->gprev;
     b->gnext = b->gprev = -1;
 }
@@ -218,14 +234,14 @@ nt_status nt__grid_find_pairs(nt_world *w)
             if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
         for (int n = 0; n < 4; n++) {
             int x = cx + half_dx[n], y = cy + half_dy[n];
-            if (x < 0 || y < 0 || x >= gw || y >= gh) continue;
+            if (x < 0 || y < 0 || x >= gw || y >= gh || !occupied(w, 2 * (y * gw + x))) continue;
             for (int32_t j = w->heads[2 * (y * gw + x)]; j >= 0; j = w->bodies[j].gnext, tests++)
                 if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
         }
         for (int y = cy - 1; y <= cy + 1 && w->grid_rest > 0; y++) {
             if (y < 0 || y >= gh) continue;
             for (int x = cx - 1; x <= cx + 1; x++) {
-                if (x < 0 || x >= gw) continue;
+                if (x < 0 || x >= gw || !occupied(w, 2 * (y * gw + x) + 1)) continue;
                 for (int32_t j = w->heads[2 * (y * gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
                     if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
             }

@@ -58,6 +58,28 @@ nt__cell nt__map_cell(const nt_map *map, int x, int y)
     return map->cells[(size_t)y * (size_t)map->w + (size_t)x];
 }
 
+static void refresh_open3(nt_map *map, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return;
+    int open = 1;
+    for (int j = y - 1; j <= y + 1 && open; j++)
+        for (int i = x - 1; i <= x + 1; i++)
+            if (i < 0 || j < 0 || i >= map->w || j >= map->h ||
+                map->cells[(size_t)j * (size_t)map->w + (size_t)i].tile != NT_TILE_EMPTY) {
+                open = 0;
+                break;
+            }
+    size_t k = (size_t)y * (size_t)map->w + (size_t)x;
+    if (open) map->open3[k >> 6] |= (uint64_t)1 << (k & 63);
+    else map->open3[k >> 6] &= ~((uint64_t)1 << (k & 63));
+}
+
+static void refresh_open3_all(nt_map *map)
+{
+    for (int y = 0; y < map->h; y++)
+        for (int x = 0; x < map->w; x++) refresh_open3(map, x, y);
+}
+
 nt_status nt_map_create(const nt_map_def *def, nt_map **out)
 {
     if (!out) return NT_ERR_INVALID_ARGUMENT;
@@ -71,7 +93,10 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     if (!m) return NT_ERR_OUT_OF_MEMORY;
     size_t n = (size_t)def->width * (size_t)def->height;
     m->cells = (nt__cell *)nt__alloc(n * sizeof *m->cells);
-    if (!m->cells) {
+    m->open3 = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *m->open3);
+    if (!m->cells || !m->open3) {
+        nt__free(m->cells);
+        nt__free(m->open3);
         nt__free(m);
         return NT_ERR_OUT_OF_MEMORY;
     }
@@ -84,6 +109,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
         for (int x = 0; x < m->w; x++)
             if (x == 0 || y == 0 || x == m->w - 1 || y == m->h - 1) /* the border's edges */
                 m->cells[(size_t)y * (size_t)m->w + (size_t)x] = compute_cell(m, x, y);
+    refresh_open3_all(m);
     *out = m;
     return NT_OK;
 }
@@ -92,6 +118,7 @@ void nt_map_destroy(nt_map *map)
 {
     if (!map) return;
     nt__free(map->cells);
+    nt__free(map->open3);
     nt__free(map);
 }
 
@@ -113,6 +140,8 @@ nt_status nt_map_set_tile(nt_map *map, int x, int y, int tile)
     map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile = (uint8_t)tile;
     refresh(map, x, y);
     for (int s = 0; s < 4; s++) refresh(map, x + side_dx[s], y + side_dy[s]);
+    for (int j = y - 1; j <= y + 1; j++)
+        for (int i = x - 1; i <= x + 1; i++) refresh_open3(map, i, j);
     return NT_OK;
 }
 
@@ -126,6 +155,7 @@ nt_status nt_map_set_tiles(nt_map *map, const uint8_t *tiles, size_t count)
     for (size_t i = 0; i < n; i++) map->cells[i].tile = tiles[i];
     for (int y = 0; y < map->h; y++)
         for (int x = 0; x < map->w; x++) refresh(map, x, y);
+    refresh_open3_all(map);
     return NT_OK;
 }
 

@@ -267,6 +267,8 @@ static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
     int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
     int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
     const nt_map *m = w->map;
+    /* The box lies within the 3 x 3 cells around its centre's cell. */
+    if (nt__map_open3(m, nt__ifloor(p.x * ic), nt__ifloor(p.y * ic))) return 1;
     if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
     for (int y = y0; y <= y1; y++) {
         const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;

@@ -177,6 +177,7 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->scratch_r);
     nt__free(w->wake_list);
     nt__free(w->heads);
+    nt__free(w->occupied);
     nt__free(w->con);
     nt__free(w->con_new);
     nt__free(w->con_tmp);

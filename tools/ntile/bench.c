@@ -12,29 +12,23 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "bench.h"
 #include "cli.h"
 #include "ntile/ntile.h"
 
-#define SCALAR_NAME (NT_REAL_IS_DOUBLE ? "double" : "float")
-
 /* ---------- shared by every scene ---------- */
-
-typedef struct bench_opts {
-    int runs;      /* timed runs; the median is reported */
-    double min_ms; /* shortest duration of one run */
-} bench_opts;
 
 /* Results of the timed work reach this sink, so the calls cannot be optimised away. */
 static volatile double bench_sink;
 
-static double now_ns(void)
+double bench_now_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
 }
 
-static int cmp_double(const void *a, const void *b)
+int bench_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
@@ -50,27 +44,27 @@ static double bench_median_ns(const bench_opts *opts, bench_work *work, const vo
 {
     long reps = 1;
     for (;;) {
-        double t0 = now_ns();
+        double t0 = bench_now_ns();
         bench_sink += work(ctx, reps);
-        double dt = now_ns() - t0;
+        double dt = bench_now_ns() - t0;
         if (dt >= opts->min_ms * 1e6 || reps >= (1L << 30)) break;
         reps *= 2;
     }
     double *per = malloc((size_t)opts->runs * sizeof *per);
     if (!per) return -1;
     for (int r = 0; r < opts->runs; r++) {
-        double t0 = now_ns();
+        double t0 = bench_now_ns();
         bench_sink += work(ctx, reps);
-        per[r] = (now_ns() - t0) / ((double)reps * items);
+        per[r] = (bench_now_ns() - t0) / ((double)reps * items);
     }
-    qsort(per, (size_t)opts->runs, sizeof *per, cmp_double);
+    qsort(per, (size_t)opts->runs, sizeof *per, bench_cmp_double);
     double m = opts->runs % 2 ? per[opts->runs / 2] : (per[opts->runs / 2 - 1] + per[opts->runs / 2]) / 2;
     free(per);
     return m;
 }
 
 /* splitmix64: a fixed seed makes every run time the same placements. */
-static uint64_t rng_next(uint64_t *s)
+uint64_t bench_rng_next(uint64_t *s)
 {
     uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -79,9 +73,14 @@ static uint64_t rng_next(uint64_t *s)
 }
 
 /* Uniform in [lo, hi). */
+double bench_rng_range(uint64_t *s, double lo, double hi)
+{
+    return lo + (hi - lo) * ((double)(bench_rng_next(s) >> 11) * 0x1.0p-53);
+}
+
 static nt_real rng_range(uint64_t *s, double lo, double hi)
 {
-    return (nt_real)(lo + (hi - lo) * ((double)(rng_next(s) >> 11) * 0x1.0p-53));
+    return (nt_real)bench_rng_range(s, lo, hi);
 }
 
 /* ---------- scene: narrow ---------- */
@@ -143,8 +142,12 @@ static int narrow_generate(int tile, int circle, uint64_t *rng, placement *out)
     return 1;
 }
 
-static int bench_narrow(const bench_opts *opts)
+static int bench_narrow(const bench_opts *opts, int nargs, char **args)
 {
+    if (nargs > 0) {
+        fprintf(stderr, "ntile bench narrow: unexpected argument '%s'\n", args[0]);
+        return CLI_USAGE;
+    }
     static const struct {
         nt_tile_class cls;
         const char *name;
@@ -196,17 +199,19 @@ static int bench_narrow(const bench_opts *opts)
 typedef struct bench_scene {
     const char *name;
     const char *summary;
-    int (*run)(const bench_opts *opts);
+    int (*run)(const bench_opts *opts, int nargs, char **args); /* args: the words after the name */
 } bench_scene;
 
 static const bench_scene scenes[] = {
     {"narrow", "ns per AABB-vs-tile and circle-vs-tile test over the 33 solid tiles", bench_narrow},
+    {"world", "ns per body-step of world scenes: bench world [rain pile particles sparse asleep scale]",
+     bench_world},
 };
 #define SCENE_COUNT (sizeof scenes / sizeof scenes[0])
 
 void cli_bench_usage(FILE *f)
 {
-    fputs("  ntile bench SCENE [--runs N] [--min-ms MS]\n"
+    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS]\n"
           "      Time a part of the engine: median of N runs (default 7), each lasting at\n"
           "      least MS milliseconds (default 20). Scenes:\n",
           f);
@@ -249,22 +254,33 @@ int cli_bench(int argc, char **argv)
         return bench_usage_error();
     }
     bench_opts opts = {7, 20};
+    char **words = malloc(sizeof(char *) * (size_t)argc);
+    int nwords = 0;
+    if (!words) return CLI_USAGE;
     for (int i = 2; i < argc; i++) {
-        double v;
+        double v = 0;
         if (strcmp(argv[i], "--runs") == 0) {
-            if (!option_number(argc, argv, &i, 1, 1001, &v)) return bench_usage_error();
-            if (v != (int)v) {
-                fprintf(stderr, "ntile bench: --runs needs a whole number\n");
+            if (!option_number(argc, argv, &i, 1, 1001, &v) || v != (int)v) {
+                if (v != (int)v) fprintf(stderr, "ntile bench: --runs needs a whole number\n");
+                free(words);
                 return bench_usage_error();
             }
             opts.runs = (int)v;
         } else if (strcmp(argv[i], "--min-ms") == 0) {
-            if (!option_number(argc, argv, &i, 0, 60000, &v)) return bench_usage_error();
+            if (!option_number(argc, argv, &i, 0, 60000, &v)) {
+                free(words);
+                return bench_usage_error();
+            }
             opts.min_ms = v;
-        } else {
-            fprintf(stderr, "ntile bench %s: unknown argument '%s'\n", scene->name, argv[i]);
+        } else if (argv[i][0] == '-') {
+            fprintf(stderr, "ntile bench %s: unknown option '%s'\n", scene->name, argv[i]);
+            free(words);
             return bench_usage_error();
+        } else {
+            words[nwords++] = argv[i];
         }
     }
-    return scene->run(&opts);
+    int rc = scene->run(&opts, nwords, words);
+    free(words);
+    return rc;
 }

@@ -1,0 +1,25 @@
+/* ntile bench — what the benchmark files share (bench.c, bench_world.c). */
+#ifndef NTILE_BENCH_H
+#define NTILE_BENCH_H
+
+#include <stdint.h>
+
+#define SCALAR_NAME (NT_REAL_IS_DOUBLE ? "double" : "float")
+
+typedef struct bench_opts {
+    int runs;      /* timed runs; the median is reported */
+    double min_ms; /* shortest duration of one run (micro-benchmarks) */
+} bench_opts;
+
+/* CLOCK_MONOTONIC in nanoseconds. */
+double bench_now_ns(void);
+/* qsort comparison of doubles. */
+int bench_cmp_double(const void *a, const void *b);
+/* splitmix64 step, and a uniform double in [lo, hi) from it. */
+uint64_t bench_rng_next(uint64_t *s);
+double bench_rng_range(uint64_t *s, double lo, double hi);
+
+/* `ntile bench world [SCENE...]` (bench_world.c). */
+int bench_world(const bench_opts *opts, int nargs, char **args);
+
+#endif
