@@ -118,12 +118,13 @@ static inline int nt__map_tile(const nt_map *map, int x, int y)
     return map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile;
 }
 
+/* floor() as an int, clamped to +-1e9 (NaN gives -1e9). Without a libm call:
+ * baseline x86-64 has no rounding instruction, and this runs for every cell range. */
 static inline int nt__floor_int(nt_real v)
 {
-    nt_real f = nt__floor(v);
-    if (f < -1e9) return -1000000000;
-    if (f > 1e9) return 1000000000;
-    return (int)f;
+    if (!(v > R(-1e9) && v < R(1e9))) return v > 0 ? 1000000000 : -1000000000;
+    int i = (int)v;
+    return i - ((nt_real)i > v);
 }
 
 #endif /* NT_CORE_H */
@@ -139,7 +140,8 @@ enum {
     NT__BF_HITS = 4,       /* enable_hit_events */
     NT__BF_ALIVE = 8,
     NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
-    NT__BF_MOVED = 32      /* scratch: moved by position correction */
+    NT__BF_MOVED = 32,     /* scratch: moved by position correction */
+    NT__BF_RESTING = 64    /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
 };
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
@@ -159,6 +161,14 @@ typedef struct nt__tile_ct {
     uint8_t solved;     /* friction already applied for this surface this step */
 } nt__tile_ct;
 
+/* An awake body of the broad phase, in a compact array sorted by cell each step so
+ * that neighbours are met in memory order. */
+typedef struct nt__proxy {
+    nt_vec2 p, half;
+    uint32_t key;              /* cell index y * grid_w + x */
+    int32_t body;
+} nt__proxy;
+
 /* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold. */
 typedef struct nt__body {
     /* What the pair search reads of a neighbour comes first (one cache line). */
@@ -173,6 +183,8 @@ typedef struct nt__body {
     int32_t awake_slot;        /* index in world->awake, -1 when not simulated */
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
     uint8_t glist;             /* NT__LIST_* */
+    uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
+    nt_vec2 rest_p;
     nt__tile_ct tc[2];
 } nt__body;
 
@@ -215,9 +227,16 @@ struct nt_world {
 
     int32_t *heads;            /* broad phase: 2 list heads per cell; NULL until needed */
     uint64_t *occupied;        /* bit per list head: the list is not empty (L1-sized, read first) */
+    uint32_t *rest_near;       /* per cell: REST-list bodies in the 3 x 3 cells around it */
+    nt__proxy *prox, *prox_tmp; /* awake grid bodies sorted by cell, rebuilt each step */
+    int prox_cap;
+    uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
+    uint32_t *radix;           /* 2 x 4096 counters of the proxies' radix sort */
     int grid_w, grid_h;
 
     nt__contact *con, *con_new, *con_tmp, *parked;
+    uint64_t *sort_keys;       /* 2 x 2 per new contact: (key, index) records of the radix sort */
+    int sort_cap;
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
     int con_dirty;             /* con not sorted by key */
@@ -249,12 +268,7 @@ static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 }
 
 /* floor() to int without a libm call, for the hot paths; clamped like nt__floor_int. */
-static inline int nt__ifloor(nt_real v)
-{
-    if (!(v > R(-1e9) && v < R(1e9))) return v > 0 ? 1000000000 : -1000000000;
-    int i = (int)v;
-    return i - ((nt_real)i > v);
-}
+static inline int nt__ifloor(nt_real v) { return nt__floor_int(v); }
 
 /* world.c */
 void nt__wake(nt_world *w, int32_t i);          /* wake i's sleeping group, restore its contacts */

@@ -17,15 +17,19 @@ nt_status nt__grid_enable(nt_world *w)
     size_t n = 2 * (size_t)w->grid_w * (size_t)w->grid_h;
     int32_t *h = (int32_t *)nt__alloc(n * sizeof *h);
     uint64_t *occ = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *occ);
-    if (!h || !occ) {
+    uint32_t *near = (uint32_t *)nt__alloc(n / 2 * sizeof *near);
+    if (!h || !occ || !near) {
         nt__free(h);
         nt__free(occ);
+        nt__free(near);
         return NT_ERR_OUT_OF_MEMORY;
     }
     memset(h, 0xff, n * sizeof *h); /* -1 everywhere */
     memset(occ, 0, ((n + 63) / 64) * sizeof *occ);
+    memset(near, 0, n / 2 * sizeof *near);
     w->heads = h;
     w->occupied = occ;
+    w->rest_near = near;
     return NT_OK;
 }
 
@@ -39,6 +43,21 @@ static inline int32_t cell_of(const nt_world *w, nt_vec2 p)
     return (int32_t)y * w->grid_w + x;
 }
 
+/* A REST body entering (+1) or leaving (-1) a cell: the 3 x 3 cells around it count
+ * it, so the pair search asks one counter instead of nine lists. */
+static void rest_count(nt_world *w, int32_t cell, int delta)
+{
+    int cx = cell % w->grid_w, cy = cell / w->grid_w;
+    for (int y = cy - 1; y <= cy + 1; y++) {
+        if (y < 0 || y >= w->grid_h) continue;
+        for (int x = cx - 1; x <= cx + 1; x++) {
+            if (x < 0 || x >= w->grid_w) continue;
+            uint32_t *c = &w->rest_near[y * w->grid_w + x];
+            *c = (uint32_t)((int64_t)*c + delta);
+        }
+    }
+}
+
 static inline void link(nt_world *w, int32_t i, int32_t head)
 {
     nt__body *b = &w->bodies[i];
@@ -50,6 +69,7 @@ static inline void link(nt_world *w, int32_t i, int32_t head)
     if (first >= 0) w->bodies[first].gprev = i;
     w->heads[head] = i;
     w->occupied[(uint32_t)head >> 6] |= (uint64_t)1 << (head & 63);
+    if (head & 1) rest_count(w, head >> 1, 1);
 }
 
 static inline int occupied(const nt_world *w, int32_t head)
@@ -61,6 +81,7 @@ static inline void unlink(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
     w->grid_rest -= b->gcell & 1;
+    if (b->gcell & 1) rest_count(w, b->gcell >> 1, -1);
     if (b->gprev >= 0) w->bodies[b->gprev].gnext = b->gnext;
     else {
         w->heads[b->gcell] = b->gnext;
@@ -208,6 +229,63 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j, nt_real margin)
     return 1;
 }
 
+/* Awake bodies as proxies sorted by cell: a stable radix sort (two 12-bit passes:
+ * cells < 2^24) of the awake order, so the result is deterministic. */
+static nt_status build_proxies(nt_world *w, int *count)
+{
+    if (w->awake_count > w->prox_cap) {
+        int cap = w->prox_cap, cap2 = w->prox_cap;
+        nt__proxy *a = (nt__proxy *)nt__grow(w->prox, 0, &cap, w->awake_count, sizeof *a);
+        if (!a) return NT_ERR_OUT_OF_MEMORY;
+        w->prox = a;
+        nt__proxy *b = (nt__proxy *)nt__grow(w->prox_tmp, 0, &cap2, w->awake_count, sizeof *b);
+        if (!b) return NT_ERR_OUT_OF_MEMORY;
+        w->prox_tmp = b;
+        w->prox_cap = cap < cap2 ? cap : cap2;
+    }
+    if (!w->radix) {
+        w->radix = (uint32_t *)nt__alloc(2 * 4096 * sizeof *w->radix);
+        if (!w->radix) return NT_ERR_OUT_OF_MEMORY;
+    }
+    uint32_t *c0 = w->radix, *c1 = w->radix + 4096;
+    memset(w->radix, 0, 2 * 4096 * sizeof *w->radix);
+    nt__proxy *src = w->prox_tmp;
+    int n = 0;
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        const nt__body *b = &w->bodies[i];
+        if (b->gcell < 0) continue;
+        nt__proxy *q = &src[n++];
+        q->p = b->p;
+        q->half = b->half;
+        q->key = (uint32_t)b->gcell >> 1;
+        q->body = i;
+        c0[q->key & 4095u]++;
+        c1[q->key >> 12]++;
+    }
+    uint32_t s0 = 0, s1 = 0;
+    for (int d = 0; d < 4096; d++) {
+        uint32_t t0 = c0[d], t1 = c1[d];
+        c0[d] = s0;
+        c1[d] = s1;
+        s0 += t0;
+        s1 += t1;
+    }
+    nt__proxy *mid = w->prox;
+    for (int k = 0; k < n; k++) mid[c0[src[k].key & 4095u]++] = src[k];
+    for (int k = 0; k < n; k++) src[c1[mid[k].key >> 12]++] = mid[k];
+    *count = n;
+    return NT_OK;
+}
+
+/* Box test with the margin on proxies, then the full test on the bodies. */
+static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy *b, nt_real margin)
+{
+    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
+    if (nt__fabs(dx) >= a->half.x + b->half.x + margin || nt__fabs(dy) >= a->half.y + b->half.y + margin) return 1;
+    return test_pair(w, a->body, b->body, margin);
+}
+
 nt_status nt__grid_find_pairs(nt_world *w)
 {
     w->con_new_count = 0;
@@ -220,30 +298,44 @@ nt_status nt__grid_find_pairs(nt_world *w)
         if (b->gcell >= 0 && (b->category & w->grid_mask) && (b->mask & w->grid_cat)) possible = 1;
     }
     if (!possible) return NT_OK;
-    const int gw = w->grid_w, gh = w->grid_h;
+    int n;
+    nt_status st = build_proxies(w, &n);
+    if (st != NT_OK) return st;
+    const nt__proxy *P = w->prox_tmp; /* sorted */
+    const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h;
     const nt_real margin = w->cell * NT__CONTACT_MARGIN;
-    static const int half_dx[4] = {1, 1, 1, 0}, half_dy[4] = {-1, 0, 1, 1};
     int tests = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        const nt__body *bi = &w->bodies[i];
-        if (bi->gcell < 0) continue;
-        int32_t cell = bi->gcell >> 1;
-        int cx = cell % gw, cy = cell / gw;
-        for (int32_t j = bi->gnext; j >= 0; j = w->bodies[j].gnext, tests++)
-            if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
-        for (int n = 0; n < 4; n++) {
-            int x = cx + half_dx[n], y = cy + half_dy[n];
-            if (x < 0 || y < 0 || x >= gw || y >= gh || !occupied(w, 2 * (y * gw + x))) continue;
-            for (int32_t j = w->heads[2 * (y * gw + x)]; j >= 0; j = w->bodies[j].gnext, tests++)
-                if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+    /* Awake pairs: each proxy meets the later ones of its own cell and of the cell to
+     * its right (the next keys), and those of the three cells below it, found by a
+     * cursor that only moves forward (keys grow, so does the row-below range). */
+    int below = 0;
+    for (int i = 0; i < n; i++) {
+        uint32_t key = P[i].key, x = key % gw, y = key / gw;
+        int j = i + 1;
+        for (; j < n && P[j].key == key; j++, tests++)
+            if (!test_proxies(w, &P[i], &P[j], margin)) return NT_ERR_OUT_OF_MEMORY;
+        if (x + 1 < gw)
+            for (; j < n && P[j].key == key + 1; j++, tests++)
+                if (!test_proxies(w, &P[i], &P[j], margin)) return NT_ERR_OUT_OF_MEMORY;
+        if (y + 1 < gh) {
+            uint32_t lo = key + gw - (x > 0), hi = key + gw + (x + 1 < gw);
+            while (below < n && P[below].key < lo) below++;
+            for (int k = below; k < n && P[k].key <= hi; k++, tests++)
+                if (!test_proxies(w, &P[i], &P[k], margin)) return NT_ERR_OUT_OF_MEMORY;
         }
-        for (int y = cy - 1; y <= cy + 1 && w->grid_rest > 0; y++) {
-            if (y < 0 || y >= gh) continue;
-            for (int x = cx - 1; x <= cx + 1; x++) {
-                if (x < 0 || x >= gw || !occupied(w, 2 * (y * gw + x) + 1)) continue;
-                for (int32_t j = w->heads[2 * (y * gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
-                    if (!test_pair(w, i, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+    }
+    /* Awake against resting (static and sleeping) bodies: the REST lists of the 9 cells. */
+    if (w->grid_rest > 0) {
+        for (int i = 0; i < n; i++) {
+            if (!w->rest_near[P[i].key]) continue;
+            int cx = (int)(P[i].key % gw), cy = (int)(P[i].key / gw);
+            for (int y = cy - 1; y <= cy + 1; y++) {
+                if (y < 0 || y >= (int)gh) continue;
+                for (int x = cx - 1; x <= cx + 1; x++) {
+                    if (x < 0 || x >= (int)gw || !occupied(w, 2 * (y * (int)gw + x) + 1)) continue;
+                    for (int32_t j = w->heads[2 * (y * (int)gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
+                        if (!test_pair(w, P[i].body, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+                }
             }
         }
     }

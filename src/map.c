@@ -226,26 +226,37 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 }
 
 /* Gather the masked per-tile candidates at p. Returns the number of overlapped
- * tiles; *nc receives the number of candidates. */
+ * tiles; *nc receives the number of candidates, *lb the deepest unmasked single-tile
+ * depth (no way out of the union is shorter). */
 static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsigned use_masks, cand *cs, int *nc,
-                  int *all_convex, int *present)
+                  int *all_convex, int *present, nt_real *lb)
 {
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
-    int overlapped = 0;
+    int overlapped = 0, inside = x0 >= 0 && y0 >= 0 && x1 < map->w && y1 < map->h;
     *nc = 0;
     *all_convex = 1;
     *present = 0;
+    *lb = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
+            /* Cells in the map are read directly; border cells are computed. */
+            nt__cell cell = inside ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
+            int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             (*present)++;
-            unsigned mask = use_masks ? nt__map_cell(map, x, y).seams : 0u;
             nt_mtv m;
+            unsigned mask = use_masks ? cell.seams : 0u;
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
             if (r == NT__SEPARATE) continue;
             overlapped++;
+            if (mask) {
+                nt_mtv u;
+                if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &u) == NT__PUSH && u.depth > *lb)
+                    *lb = u.depth;
+            } else if (m.depth > *lb) {
+                *lb = m.depth;
+            }
             if (nt__tiles[t].cls == NT_CLASS_CONCAVE) *all_convex = 0;
             if (r == NT__PUSH && *nc < MAX_CANDS) {
                 cand *c = &cs[(*nc)++];
@@ -315,12 +326,15 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
 static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc,
-                          int overlapped, int all_convex, int present, nt_resolution *out, nt_real *lower)
+                          int overlapped, int all_convex, int present, nt_real lb, nt_resolution *out, nt_real *lower)
 {
-    /* Fast certificate: every solid tile in range is overlapped and pushes the same
-     * way, the deepest push clears them all (convex regions stay cleared further
-     * along their normal), and it brings no new cell into range. */
-    if (nc == overlapped && nc == present && all_convex && nc > 0) {
+    /* Fast certificate: every overlapped tile pushes the same way and is convex, so
+     * the deepest push clears them all (a convex region stays cleared further along
+     * an outward normal); it is the answer when no other tile overlaps the object
+     * at its new place (tested there, one tile each). A single concave tile is
+     * tested at the new place as well. */
+    /* With one candidate the tile may be concave: its own push is then tested too. */
+    if (nc == overlapped && nc > 0 && (all_convex || nc == 1)) {
         int deepest = 0, same = 1;
         for (int i = 1; i < nc; i++) {
             if (cs[i].nx != cs[0].nx || cs[i].ny != cs[0].ny) same = 0;
@@ -328,10 +342,27 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
         }
         if (same) {
             nt_vec2 q = nt_v2(p.x + cs[deepest].nx * cs[deepest].depth, p.y + cs[deepest].ny * cs[deepest].depth);
-            int a0, b0, a1, b1, c0, d0, c1, d1;
-            cell_range(p, h, &a0, &b0, &a1, &b1);
+            int a0, b0, a1, b1, c0, d0, c1, d1, clear = 1;
             cell_range(q, h, &c0, &d0, &c1, &d1);
-            if (c0 >= a0 && d0 >= b0 && c1 <= a1 && d1 <= b1) {
+            cell_range(p, h, &a0, &b0, &a1, &b1);
+            /* Every tile in range was overlapped and no new cell comes into range:
+             * nothing else to test. */
+            int same_range = all_convex && nc == present && c0 >= a0 && d0 >= b0 && c1 <= a1 && d1 <= b1;
+            nt_real tol = free_tolerance(q);
+            for (int y = d0; y <= d1 && clear && !same_range; y++)
+                for (int x = c0; x <= c1; x++) {
+                    int t = nt__map_tile(map, x, y), known = 0;
+                    if (t == NT_TILE_EMPTY) continue;
+                    for (int i = 0; i < nc && all_convex; i++) known |= cs[i].cx == x && cs[i].cy == y;
+                    if (known) continue;
+                    nt_mtv m;
+                    if (tile_test(t, q.x - (nt_real)x, q.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH &&
+                        m.depth > tol) {
+                        clear = 0;
+                        break;
+                    }
+                }
+            if (clear) {
                 set_single(out, &cs[deepest]);
                 *lower = cs[deepest].depth;
                 return 1;
@@ -341,7 +372,6 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     /* No way out of the union is shorter than the way out of its deepest tile: a
      * candidate below that bound can free the object only within the tolerance of
      * is_free, leaving it slightly inside, so it is not taken. */
-    nt_real lb = depth_at(map, p, shape, h);
     *lower = lb;
     nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
     nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
@@ -680,6 +710,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
 
     cand cs[MAX_CANDS];
     int nc, all_convex, present;
+    nt_real lb;
     if (p.x < -2 || p.y < -2 || p.x > (nt_real)map->w + 2 || p.y > (nt_real)map->h + 2) {
         /* Far inside the border: come back into the map first. */
         nt_vec2 d = escape(map, p, shape, h);
@@ -693,11 +724,11 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         if (out) *out = res;
         return true;
     }
-    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present);
+    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present, &lb);
     if (overlapped == 0) return false;
 
     nt_real lower = 0;
-    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, &res, &lower);
+    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
     nt_real len = found ? nt__len(res.push) : R(0.8);

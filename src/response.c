@@ -74,6 +74,36 @@ static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
     return src;
 }
 
+/* Sort n contacts by key into dst (n >= 0), through (key, index) records: an LSD radix
+ * sort over the key's bytes, skipping bytes that every key shares. keys holds 4n
+ * words. Keys are unique, so the order is fully determined. */
+static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_t *keys)
+{
+    uint64_t *a = keys, *b = keys + 2 * (size_t)n;
+    uint64_t all_or = 0, all_and = ~(uint64_t)0;
+    for (int i = 0; i < n; i++) {
+        a[2 * i] = src[i].key;
+        a[2 * i + 1] = (uint64_t)i;
+        all_or |= src[i].key;
+        all_and &= src[i].key;
+    }
+    for (int shift = 0; shift < 64; shift += 8) {
+        if ((((all_or ^ all_and) >> shift) & 0xffu) == 0) continue; /* same byte everywhere */
+        uint32_t count[257] = {0};
+        for (int i = 0; i < n; i++) count[((a[2 * i] >> shift) & 0xffu) + 1]++;
+        for (int d = 0; d < 256; d++) count[d + 1] += count[d];
+        for (int i = 0; i < n; i++) {
+            uint32_t k = count[(a[2 * i] >> shift) & 0xffu]++;
+            b[2 * k] = a[2 * i];
+            b[2 * k + 1] = a[2 * i + 1];
+        }
+        uint64_t *t = a;
+        a = b;
+        b = t;
+    }
+    for (int i = 0; i < n; i++) dst[i] = src[a[2 * i + 1]];
+}
+
 #define GROW(arr, count, cap, need)                                                                          \
     do {                                                                                                     \
         if ((need) > (cap)) {                                                                                \
@@ -168,12 +198,13 @@ static nt_status collide(nt_world *w)
     GROW(w->ev_sbegin, 0, w->cap_sbegin, nn);
     GROW(w->ev_send, 0, w->cap_send, no);
     GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
+    GROW(w->sort_keys, 0, w->sort_cap, 4 * nn);
 
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
     w->wake_count = 0;
-    nt__contact *nw = sort_contacts(w->con_new, w->con_tmp, nn);
-    if (nw != w->con_new) memcpy(w->con_new, nw, (size_t)nn * sizeof *nw);
+    sort_by_key(w->con_new, w->con_tmp, nn, w->sort_keys);
+    if (nn) memcpy(w->con_new, w->con_tmp, (size_t)nn * sizeof *w->con_new);
     nt__contact *old = w->con, *out = w->con_tmp;
     int i = 0, j = 0, k = 0;
     while (i < no || j < nn) {
@@ -469,14 +500,23 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
 
 /* ---------------------------------------------------------------- 2. correct */
 
+/* True when pushing b along dir drives it into a tile surface it rests on. */
+static inline int held(const nt__body *b, nt_vec2 dir)
+{
+    for (int k = 0; k < b->ntc; k++)
+        if (nt__dot(b->tc[k].n, dir) < R(-0.1)) return 1;
+    return 0;
+}
+
 static void correct_positions(nt_world *w)
 {
     int iters = w->def.position_iterations;
     if (iters == 0 || w->con_count == 0) return;
     int32_t *moved = w->wake_list;
     nt_real *prev = w->scratch_r;
+    int nm = 0;
     for (int it = 0; it < iters; it++) {
-        int nm = 0;
+        int pushed = 0;
         for (int k = 0; k < w->con_count; k++) {
             nt__contact *c = &w->con[k];
             if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
@@ -488,7 +528,13 @@ static void correct_positions(nt_world *w)
             if (!nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) continue;
             nt_real d = m.depth - skin_at(w, a->p);
             if (d <= 0) continue;
+            /* A body held by a tile surface against this push does not give way: the
+             * other one moves the whole distance (tiles are resolved after the loop). */
+            if (wa > 0 && held(a, m.normal)) wa = 0;
+            if (wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y))) wb = 0;
+            if (wa + wb <= 0) continue;
             nt_real sa = d * wa / (wa + wb), sb = d - sa;
+            pushed = 1;
             for (int s = 0; s < 2; s++) {
                 int32_t i = s ? ib : ia;
                 nt__body *bi = s ? b : a;
@@ -506,20 +552,21 @@ static void correct_positions(nt_world *w)
             b->p.x -= m.normal.x * sb;
             b->p.y -= m.normal.y * sb;
         }
-        if (nm == 0) break;
-        /* Pushed bodies must not end inside tiles. */
-        for (int q = 0; q < nm; q++) {
-            int32_t i = moved[q];
-            nt__body *b = &w->bodies[i];
-            b->flags &= (uint8_t)~NT__BF_MOVED;
-            nt_resolution res;
-            nt_vec2 p0 = nt_v2(prev[2 * i], prev[2 * i + 1]);
-            if (nt__resolve_body(w, b, p0, b->p, &res)) {
-                apply_push(w, b, &res);
-                store_tile_contacts(w, b, &res, 0);
-            } else {
-                b->ntc = 0;
-            }
+        if (!pushed) break;
+    }
+    /* Pushed bodies must not end inside tiles: resolved once, after the iterations
+     * (the tile resolution costs far more than a pair push). */
+    for (int q = 0; q < nm; q++) {
+        int32_t i = moved[q];
+        nt__body *b = &w->bodies[i];
+        b->flags &= (uint8_t)~NT__BF_MOVED;
+        nt_resolution res;
+        nt_vec2 p0 = nt_v2(prev[2 * i], prev[2 * i + 1]);
+        if (nt__resolve_body(w, b, p0, b->p, &res)) {
+            apply_push(w, b, &res);
+            store_tile_contacts(w, b, &res, 0);
+        } else {
+            b->ntc = 0;
         }
     }
 }
@@ -713,18 +760,37 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
     nt_real h = dt / (nt_real)n;
     hit_rec hit;
     memset(&hit, 0, sizeof hit);
+    /* A body that does not move, where the last resolution moved it by nothing, with
+     * the tiles unchanged since: the resolution would give the same answer again (it
+     * depends on the position and the tiles only), so keep its contacts as they are.
+     * This is what makes bodies resting on tiles cheap. */
+    if (n == 1 && b->v.x == 0 && b->v.y == 0 && (b->flags & NT__BF_RESTING) && b->rest_epoch == w->map_epoch &&
+        b->p.x == b->rest_p.x && b->p.y == b->rest_p.y) {
+        for (int k = 0; k < b->ntc; k++) {
+            b->tc[k].lambda = 0;
+            b->tc[k].solved = 0;
+        }
+        return 1;
+    }
+    b->flags &= (uint8_t)~NT__BF_RESTING;
     for (int s = 0; s < n; s++) {
         nt_vec2 p0 = b->p;
         b->p.x += b->v.x * h;
         b->p.y += b->v.y * h;
+        nt_vec2 p1 = b->p;
         nt_resolution res;
         if (!nt__resolve_body(w, b, p0, b->p, &res)) {
             b->ntc = 0;
-            continue;
+        } else {
+            apply_push(w, b, &res);
+            respond_tiles(w, b, &res, &hit);
+            store_tile_contacts(w, b, &res, 1);
         }
-        apply_push(w, b, &res);
-        respond_tiles(w, b, &res, &hit);
-        store_tile_contacts(w, b, &res, 1);
+        if (n == 1 && p0.x == p1.x && p0.y == p1.y && b->p.x == p1.x && b->p.y == p1.y) {
+            b->flags |= NT__BF_RESTING;
+            b->rest_p = b->p;
+            b->rest_epoch = w->map_epoch;
+        }
     }
     for (int k = 0; k < b->ntc; k++) b->tc[k].solved = 0;
     if (hit.speed > 0 && hit.speed >= w->def.hit_event_threshold && (b->flags & NT__BF_HITS)) {

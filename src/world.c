@@ -178,6 +178,11 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->wake_list);
     nt__free(w->heads);
     nt__free(w->occupied);
+    nt__free(w->rest_near);
+    nt__free(w->sort_keys);
+    nt__free(w->prox);
+    nt__free(w->prox_tmp);
+    nt__free(w->radix);
     nt__free(w->con);
     nt__free(w->con_new);
     nt__free(w->con_tmp);
@@ -269,6 +274,7 @@ nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     nt_status s = nt_map_set_tile(w->map, x, y, tile);
     if (s != NT_OK) return s;
+    w->map_epoch++;
     if (w->solid) {
         int t = (nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : tile;
         nt_map_set_tile(w->solid, x, y, t);
@@ -292,6 +298,7 @@ nt_status nt_world_set_tiles(nt_world *w, const uint8_t *tiles, size_t count)
         nt__free(tmp);
         return s;
     }
+    w->map_epoch++;
     if (tmp) {
         nt_map_set_tiles(w->solid, tmp, n);
         nt__free(tmp);
@@ -332,6 +339,7 @@ nt_status nt_world_set_cell_material(nt_world *w, int x, int y, int index)
         memset(w->cell_mat, 0, n);
     }
     w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x] = (uint8_t)index;
+    w->map_epoch++;
     return NT_OK;
 }
 
@@ -376,6 +384,7 @@ nt_status nt_world_set_cell_flags(nt_world *w, int x, int y, uint32_t flags)
     }
     uint8_t old = w->cell_flags[k];
     w->cell_flags[k] = (uint8_t)flags;
+    w->map_epoch++;
     if ((old ^ flags) & NT_CELL_ONE_WAY) {
         w->oneway_count += (flags & NT_CELL_ONE_WAY) ? 1 : -1;
         nt_map_set_tile(w->solid, x, y, (flags & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : w->map->cells[k].tile);

@@ -12,7 +12,8 @@
  *   particles  the same scene with every body's mask 0: tiles only, no broad phase
  *   sparse     bodies flying in straight lines (no gravity) through a 256 x 256 map
  *              that is almost empty
- *   pile       a 64-cell-wide container filled with bodies, sleep off: dense contact
+ *   pile       a 64-cell-wide container filled with 3000 bodies (Coulomb friction 0.5,
+ *              no bounce), sleep off: dense contact
  *   asleep     that pile with sleep on, stepped until every body sleeps, then timed
  *   scale      rain at 1k, 10k and 100k bodies, the map grown to keep the density
  */
@@ -94,6 +95,13 @@ static nt_world *build(const scene_cfg *c)
     d.enable_sleep = c->sleep != 0;
     d.body_capacity = c->bodies;
     if (c->kind == KIND_SPARSE) d.gravity = nt_v2(0, 0);
+    if (c->kind == KIND_PILE) {
+        /* A pile that comes to rest: Coulomb friction 0.5, no bounce. (With N's
+         * slippery defaults, 0.05 and no static friction, a pile keeps flowing.) */
+        d.friction_model = NT_FRICTION_COULOMB;
+        d.tile_material.friction = R(0.5);
+        d.tile_material.bounce = 0;
+    }
     nt_world *world = NULL;
     if (!world_or_die(nt_world_create(&d, &world), "nt_world_create")) return NULL;
     nt_real cell = d.map.cell_size;
@@ -120,6 +128,8 @@ static nt_world *build(const scene_cfg *c)
             x = i % w;
             y = h - 1 - i / w;
             b.shape = (i & 1) ? nt_shape_circle(R(0.45 * cell)) : nt_shape_aabb(R(0.45 * cell), R(0.45 * cell));
+            b.material.friction = R(0.5);
+            b.material.bounce = 0;
         } else {
             /* A random empty cell (with empty cells above and below), one body each. */
             size_t k;
