@@ -304,5 +304,13 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 nt_status nt__step(nt_world *w, nt_real dt);
 bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res);
 
+/* Both bodies of a contact are still the ones it was made for. */
+static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)
+{
+    const nt__body *a = &w->bodies[(int32_t)(c->key >> 32)], *b = &w->bodies[(int32_t)(c->key & 0xffffffffu)];
+    return (a->flags & NT__BF_ALIVE) && (b->flags & NT__BF_ALIVE) && a->generation == c->gen_a &&
+           b->generation == c->gen_b;
+}
+
 #endif
 /* ==== end of world simulation internals ==== */

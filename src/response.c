@@ -42,12 +42,7 @@ static inline nt_real solver_w(const nt__body *b)
     return (b->type == NT_BODY_DYNAMIC && b->awake_slot >= 0) ? b->inv_mass : 0;
 }
 
-static inline int contact_live(const nt_world *w, const nt__contact *c)
-{
-    const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
-    return (a->flags & NT__BF_ALIVE) && (b->flags & NT__BF_ALIVE) && a->generation == c->gen_a &&
-           b->generation == c->gen_b;
-}
+static inline int contact_live(const nt_world *w, const nt__contact *c) { return nt__contact_is_live(w, c); }
 
 /* ---------------------------------------------------------------- 1. collide */
 

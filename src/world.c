@@ -1,6 +1,7 @@
 /* The world: lifecycle, bodies, tiles and materials, sleeping groups, events,
  * queries, debug drawing and the state hash. The step itself is in response.c,
  * the broad phase in grid.c. */
+#include <stdio.h>
 #include <string.h>
 #include "core.h"
 
@@ -1134,6 +1135,7 @@ nt_debug_draw nt_default_debug_draw(void)
     memset(&d, 0, sizeof d);
     d.draw_tiles = true;
     d.draw_bodies = true;
+    d.projection_scale = 1;
     return d;
 }
 
@@ -1157,6 +1159,14 @@ static void draw_tile(const nt_debug_draw *dd, int t, nt_real ox, nt_real oy, nt
         }
     }
     dd->draw_polygon(pts, n, info->cls == NT_CLASS_POLYGON ? 0x9fa8b3u : 0xb3a89fu, dd->context);
+}
+
+/* An arrow when the callback exists, else a segment. */
+static void draw_vector(const nt_debug_draw *dd, nt_vec2 p, nt_vec2 v, uint32_t color)
+{
+    nt_vec2 q = nt__add(p, v);
+    if (dd->draw_arrow) dd->draw_arrow(p, q, color, dd->context);
+    else if (dd->draw_segment) dd->draw_segment(p, q, color, dd->context);
 }
 
 void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
@@ -1217,17 +1227,45 @@ void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
                 dd->draw_box(nt__sub(b->p, b->half), nt__add(b->p, b->half), color, dd->context);
             }
         }
-        if (dd->draw_velocities && dd->draw_segment && b->type != NT_BODY_STATIC)
-            dd->draw_segment(b->p, nt__add(b->p, nt__scale(b->v, R(0.1))), 0x40c0c0u, dd->context);
-        if (dd->draw_tile_contacts && dd->draw_segment)
-            for (int k = 0; k < b->ntc; k++)
-                dd->draw_segment(b->p, nt__add(b->p, nt__scale(b->tc[k].n, s * R(0.5))), 0xe08040u, dd->context);
+        if (dd->draw_velocities && b->type != NT_BODY_STATIC)
+            draw_vector(dd, b->p, nt__scale(b->v, R(0.1)), 0x40c0c0u);
+        if (dd->draw_velocity_split && b->ntc > 0 && b->type == NT_BODY_DYNAMIC) {
+            /* Against the first surface: the part into/out of it and the part along it. */
+            nt_vec2 n = b->tc[0].n;
+            nt_vec2 vn = nt__scale(n, nt__dot(b->v, n)), vt = nt__sub(b->v, vn);
+            draw_vector(dd, b->p, nt__scale(vn, R(0.1)), 0xe04040u);
+            draw_vector(dd, b->p, nt__scale(vt, R(0.1)), 0x40e040u);
+        }
+        for (int k = 0; k < b->ntc; k++) {
+            if (dd->draw_tile_contacts) draw_vector(dd, b->p, nt__scale(b->tc[k].n, s * R(0.5)), 0xe08040u);
+            if (dd->draw_projections)
+                draw_vector(dd, b->p, nt__scale(b->tc[k].n, b->tc[k].depth * dd->projection_scale), 0xffe040u);
+        }
     }
-    if (dd->draw_contacts && dd->draw_segment)
+    if (dd->draw_contacts || dd->draw_projections)
         for (int k = 0; k < w->con_count; k++) {
             const nt__contact *c = &w->con[k];
+            if (!nt__contact_is_live(w, c)) continue;
             const nt__body *a = &w->bodies[c->key >> 32], *b = &w->bodies[c->key & 0xffffffffu];
             nt_vec2 mid = nt__scale(nt__add(a->p, b->p), R(0.5));
-            dd->draw_segment(mid, nt__add(mid, nt__scale(c->n, s * R(0.3))), 0xffffffu, dd->context);
+            if (dd->use_bounds && (mid.x < lo.x || mid.x > hi.x || mid.y < lo.y || mid.y > hi.y)) continue;
+            if (dd->draw_contacts) draw_vector(dd, mid, nt__scale(c->n, s * R(0.3)), 0xffffffu);
+            if (dd->draw_projections && c->depth > 0)
+                draw_vector(dd, mid, nt__scale(c->n, c->depth * dd->projection_scale), 0xffe040u);
         }
+    for (int k = 0; k < dd->ray_count && dd->rays; k++) {
+        const nt_debug_ray *r = &dd->rays[k];
+        nt_vec2 end = r->hit ? r->result.point : r->p1;
+        if (dd->draw_segment) dd->draw_segment(r->p0, end, r->hit ? 0xff6060u : 0x60ff60u, dd->context);
+        if (r->hit) {
+            if (dd->draw_point) dd->draw_point(r->result.point, 0xff6060u, dd->context);
+            draw_vector(dd, r->result.point, nt__scale(r->result.normal, s * R(0.5)), 0xff6060u);
+        }
+    }
+    if (dd->draw_stats && dd->draw_text) {
+        char line[160];
+        snprintf(line, sizeof line, "bodies %d  awake %d  contacts %d  moves %d  pair tests %d", w->body_count,
+                 w->awake_count, w->counters.contact_count, w->counters.substep_count, w->counters.pair_tests);
+        dd->draw_text(dd->use_bounds ? lo : nt_v2(0, 0), line, 0xffffffu, dd->context);
+    }
 }

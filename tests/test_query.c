@@ -933,6 +933,34 @@ static void test_bench_narrow(void **state)
     run_free(&r);
 }
 
+/* `bench world` argument errors (the scenes themselves take seconds: not run here). */
+static void test_bench_world_usage(void **state)
+{
+    (void)state;
+    const char *a1[] = {"bench", "world", "nosuch", NULL};
+    run_result r;
+    run_cli(&r, NULL, a1);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "unknown scene 'nosuch'"));
+    assert_int_equal(r.nlines, 0);
+    run_free(&r);
+    const char *a2[] = {"bench", "world", "rain", "--runs", "3", NULL};
+    run_cli(&r, NULL, a2);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "at least 5"));
+    run_free(&r);
+    const char *a3[] = {"bench", "narrow", "extra", NULL};
+    run_cli(&r, NULL, a3);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "unexpected argument 'extra'"));
+    run_free(&r);
+    const char *a4[] = {"bench", "world", "--bogus", NULL};
+    run_cli(&r, NULL, a4);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "unknown option '--bogus'"));
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -952,6 +980,7 @@ int main(void)
         cmocka_unit_test(test_random_bytes),
         cmocka_unit_test(test_demo_file),
         cmocka_unit_test(test_bench_narrow),
+        cmocka_unit_test(test_bench_world_usage),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -719,6 +719,129 @@ static void test_debug_draw(void **state)
     nt_world_destroy(w);
 }
 
+/* Gizmos: arrows, points, text, rays, projections and the velocity split, checked
+ * against what the world reports through its own getters and the ray cast. */
+typedef struct gizmo_log {
+    int arrows, points, texts, segments;
+    nt_vec2 a0[64], a1[64];
+    uint32_t acolor[64];
+    nt_vec2 point;
+    char text[200];
+} gizmo_log;
+
+static void g_arrow(nt_vec2 a, nt_vec2 b, uint32_t c, void *ctx)
+{
+    gizmo_log *l = (gizmo_log *)ctx;
+    if (l->arrows < 64) {
+        l->a0[l->arrows] = a;
+        l->a1[l->arrows] = b;
+        l->acolor[l->arrows] = c;
+    }
+    l->arrows++;
+}
+static void g_point(nt_vec2 p, uint32_t c, void *ctx)
+{
+    (void)c;
+    ((gizmo_log *)ctx)->points++;
+    ((gizmo_log *)ctx)->point = p;
+}
+static void g_text(nt_vec2 p, const char *t, uint32_t c, void *ctx)
+{
+    (void)p, (void)c;
+    gizmo_log *l = (gizmo_log *)ctx;
+    l->texts++;
+    snprintf(l->text, sizeof l->text, "%s", t);
+}
+static void g_segment(nt_vec2 a, nt_vec2 b, uint32_t c, void *ctx)
+{
+    (void)a, (void)b, (void)c;
+    ((gizmo_log *)ctx)->segments++;
+}
+
+/* The arrow of colour c (the last one drawn), as a vector. */
+static nt_vec2 arrow_of(const gizmo_log *l, uint32_t c, int *found)
+{
+    nt_vec2 v = nt_v2(0, 0);
+    *found = 0;
+    for (int i = 0; i < l->arrows && i < 64; i++)
+        if (l->acolor[i] == c) {
+            v = nt_v2(l->a1[i].x - l->a0[i].x, l->a1[i].y - l->a0[i].y);
+            *found = 1;
+        }
+    return v;
+}
+
+static void test_debug_draw_gizmos(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(10, 10, 2); /* cell 2: floor top at y = 10 */
+    for (int x = 0; x < 10; x++) nt_world_set_tile(w, x, 5, NT_TILE_FULL);
+    nt_body_id id = add_box(w, 5, R(9.4), R(0.5), R(0.5));
+    assert_int_equal(nt_body_set_velocity(w, id, nt_v2(6, 0)), NT_OK);
+    for (int s = 0; s < 10; s++) assert_int_equal(nt_world_step(w, R(1.0 / 60)), NT_OK);
+    nt_body_tile_contacts tc;
+    assert_int_equal(nt_body_get_tile_contacts(w, id, &tc), NT_OK);
+    assert_true(tc.on_floor && tc.count == 1);
+    nt_vec2 v = nt_body_get_velocity(w, id);
+    assert_true(v.x > 1); /* still sliding */
+
+    nt_debug_ray ray;
+    memset(&ray, 0, sizeof ray);
+    ray.p0 = nt_v2(1, 1);
+    ray.p1 = nt_v2(1, 15);
+    ray.hit = nt_world_raycast(w, ray.p0, ray.p1, nt_default_query_filter(), &ray.result);
+    assert_true(ray.hit);
+
+    gizmo_log log;
+    memset(&log, 0, sizeof log);
+    nt_debug_draw dd = nt_default_debug_draw();
+    dd.draw_tiles = dd.draw_bodies = false;
+    dd.draw_arrow = g_arrow;
+    dd.draw_point = g_point;
+    dd.draw_text = g_text;
+    dd.draw_segment = g_segment;
+    dd.draw_tile_contacts = dd.draw_projections = dd.draw_velocity_split = dd.draw_stats = true;
+    dd.rays = &ray;
+    dd.ray_count = 1;
+    dd.context = &log;
+    nt_world_draw(w, &dd);
+    int f;
+    /* Tile contact normal: up, half a cell long. */
+    nt_vec2 n = arrow_of(&log, 0xe08040u, &f);
+    assert_true(f && fabs((double)n.x) < 1e-6 && fabs((double)n.y + 1) < 1e-6);
+    /* Projection: along the normal, the contact's depth long (a skin: tiny but > 0). */
+    nt_vec2 pr = arrow_of(&log, 0xffe040u, &f);
+    assert_true(f && pr.x == 0 && pr.y < 0 && pr.y > -0.01);
+    /* Velocity split against the floor: no normal part, the tangential part is v * 0.1 s. */
+    nt_vec2 vn = arrow_of(&log, 0xe04040u, &f);
+    assert_true(f && fabs((double)vn.x) < 1e-6 && fabs((double)vn.y) < 1e-6);
+    nt_vec2 vt = arrow_of(&log, 0x40e040u, &f);
+    assert_true(f && fabs((double)vt.x - 0.1 * (double)v.x) < 1e-5 && fabs((double)vt.y - 0.1 * (double)v.y) < 1e-5);
+    /* The ray: a segment to the hit, the hit point on the floor, its normal. */
+    assert_int_equal(log.segments, 1);
+    assert_int_equal(log.points, 1);
+    assert_true(fabs((double)log.point.y - 10) < 1e-5 && fabs((double)log.point.x - 1) < 1e-6);
+    nt_vec2 rn = arrow_of(&log, 0xff6060u, &f);
+    assert_true(f && rn.x == 0 && rn.y < 0);
+    /* Statistics. */
+    assert_int_equal(log.texts, 1);
+    assert_non_null(strstr(log.text, "bodies 1"));
+    /* A larger projection scale lengthens the projection arrow in proportion. */
+    memset(&log, 0, sizeof log);
+    dd.projection_scale = 1000;
+    nt_world_draw(w, &dd);
+    nt_vec2 pr2 = arrow_of(&log, 0xffe040u, &f);
+    assert_true(f && fabs((double)pr2.y - 1000 * (double)pr.y) < 1e-3 * fabs(1000 * (double)pr.y));
+    /* Without an arrow callback, vectors come as segments. */
+    memset(&log, 0, sizeof log);
+    dd.draw_arrow = NULL;
+    dd.ray_count = 0;
+    nt_world_draw(w, &dd);
+    assert_int_equal(log.arrows, 0);
+    assert_int_equal(log.segments, 4); /* tile normal, projection, normal and tangential parts */
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -736,6 +859,7 @@ int main(void)
         cmocka_unit_test(test_point_and_aabb_queries),
         cmocka_unit_test(test_raycast),
         cmocka_unit_test(test_debug_draw),
+        cmocka_unit_test(test_debug_draw_gizmos),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -399,30 +399,52 @@ int nt_world_overlap_aabb(const nt_world *world, nt_vec2 lo, nt_vec2 hi, nt_quer
 
 /* ---------------------------------------------------------------- debug draw */
 
-/// Colours are 0xRRGGBB. Any callback may be NULL.
+/// A ray to draw with the world (the world does not remember queries: pass the ones
+/// you made, with what nt_world_raycast answered).
+typedef struct nt_debug_ray {
+    nt_vec2 p0, p1;
+    bool hit;             ///< nt_world_raycast returned true
+    nt_world_ray_hit result;
+} nt_debug_ray;
+
+/// Colours are 0xRRGGBB. Any callback may be NULL: what needs it is skipped.
+/// Colours of bodies: awake dynamic 0xe6b34d, asleep 0x808080, static 0x80e680,
+/// kinematic 0x8080e6, sensor 0xe680e6.
 typedef struct nt_debug_draw {
-    /// Closed outline (tiles).
+    /// Closed outline (tiles, broad-phase cells).
     void (*draw_polygon)(const nt_vec2 *vertices, int count, uint32_t color, void *context);
     /// Axis-aligned box (box bodies).
     void (*draw_box)(nt_vec2 lo, nt_vec2 hi, uint32_t color, void *context);
     /// Circle outline (circle bodies).
     void (*draw_circle)(nt_vec2 center, nt_real radius, uint32_t color, void *context);
-    /// Line segment (edges, normals, velocities).
+    /// Line segment (edges, rays).
     void (*draw_segment)(nt_vec2 p0, nt_vec2 p1, uint32_t color, void *context);
+    /// Vector from p0 with its tip at p1 (normals, projections, velocities).
+    void (*draw_arrow)(nt_vec2 p0, nt_vec2 p1, uint32_t color, void *context);
+    /// A point (ray hits, contact points).
+    void (*draw_point)(nt_vec2 p, uint32_t color, void *context);
+    /// A short text at p (statistics).
+    void (*draw_text)(nt_vec2 p, const char *text, uint32_t color, void *context);
     /// Only draw what overlaps lo..hi when use_bounds is set.
     nt_vec2 bounds_lo, bounds_hi;
     bool use_bounds;
-    bool draw_tiles;         ///< tile outlines
-    bool draw_edges;         ///< SOLID edges (red) and INTERESTING edges (yellow)
-    bool draw_bodies;        ///< bodies, coloured by type and state
-    bool draw_velocities;    ///< velocity * 0.1 s
-    bool draw_contacts;      ///< body contact normals
-    bool draw_tile_contacts; ///< tile contact normals
-    bool draw_grid;          ///< broad-phase cells that hold bodies
+    bool draw_tiles;           ///< tile outlines
+    bool draw_edges;           ///< SOLID edges (red) and INTERESTING edges (yellow)
+    bool draw_grid;            ///< broad-phase cells that hold bodies
+    bool draw_bodies;          ///< bodies, coloured by type and state
+    bool draw_velocities;      ///< velocity x 0.1 s (arrow, else segment)
+    bool draw_velocity_split;  ///< for bodies on a tile: normal and tangential parts of the velocity
+    bool draw_contacts;        ///< body contact normals (from a towards b) at the midpoint
+    bool draw_tile_contacts;   ///< tile contact normals, half a cell long
+    bool draw_projections;     ///< last projection vector per contact: normal x depth x projection_scale
+    bool draw_stats;           ///< one line of counters at bounds_lo (or the origin)
+    nt_real projection_scale;  ///< see draw_projections (default 1: true length)
+    const nt_debug_ray *rays;  ///< rays to draw: segment, hit point and normal
+    int ray_count;
     void *context;
 } nt_debug_draw;
 
-/// No callbacks; tiles and bodies on, everything else off.
+/// No callbacks, no rays; tiles and bodies on, everything else off; projection_scale 1.
 nt_debug_draw nt_default_debug_draw(void);
 
 /// Draw the world through the callbacks.

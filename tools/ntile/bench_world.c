@@ -4,7 +4,8 @@
  * its scene anew from a fixed seed (not timed), steps it through a warm-up (not
  * timed), then times `steps` calls of nt_world_step; the figure is the median over
  * the runs of elapsed time / (bodies x steps). World defaults throughout: N's scale
- * (cell 24 units, gravity 320 units/s^2), dt = 1/40 s, N's friction model.
+ * (cell 24 units, gravity 320 units/s^2), dt = 1/40 s, N's friction model, except where
+ * said.
  *
  *   rain       bodies (half circles, half boxes, half-sizes 0.2..0.4 cell) start in
  *              the empty cells of a 256 x 256 map whose ledges use every tile shape,
@@ -117,6 +118,28 @@ static nt_world *build(const scene_cfg *c)
     if (c->kind == KIND_RAIN) rain_tiles(tiles, w, &rng);
     else if (c->kind == KIND_SPARSE) sparse_tiles(tiles, w, &rng);
     if (!world_or_die(nt_world_set_tiles(world, tiles, ncells), "nt_world_set_tiles")) goto fail;
+    if (c->kind != KIND_PILE) {
+        /* Spawn cells: random empty cells with empty cells above and below, one body
+         * each. Bodies are then created in reading order of their cells, as a level
+         * lists them. */
+        for (int i = 0; i < c->bodies; i++) {
+            int tries = 0;
+            for (;;) {
+                size_t k = (size_t)(bench_rng_next(&rng) % ncells);
+                int y = (int)(k / (size_t)w);
+                if (!used[k] && tiles[k] == NT_TILE_EMPTY && y >= 1 && y <= h - 2 &&
+                    tiles[k - (size_t)w] == NT_TILE_EMPTY && tiles[k + (size_t)w] == NT_TILE_EMPTY) {
+                    used[k] = 1;
+                    break;
+                }
+                if (++tries > 1000) {
+                    fprintf(stderr, "ntile bench world: no room for %d bodies\n", c->bodies);
+                    goto fail;
+                }
+            }
+        }
+    }
+    size_t next_cell = 0;
     for (int i = 0; i < c->bodies; i++) {
         nt_body_def b = nt_default_body_def();
         double half = bench_rng_range(&rng, 0.2, 0.4) * (double)cell;
@@ -131,20 +154,10 @@ static nt_world *build(const scene_cfg *c)
             b.material.friction = R(0.5);
             b.material.bounce = 0;
         } else {
-            /* A random empty cell (with empty cells above and below), one body each. */
-            size_t k;
-            int tries = 0;
-            do {
-                k = (size_t)(bench_rng_next(&rng) % ncells);
-                x = (int)(k % (size_t)w);
-                y = (int)(k / (size_t)w);
-                if (++tries > 1000) {
-                    fprintf(stderr, "ntile bench world: no room for %d bodies\n", c->bodies);
-                    goto fail;
-                }
-            } while (used[k] || tiles[k] != NT_TILE_EMPTY || y < 1 || y > h - 2 ||
-                     tiles[k - (size_t)w] != NT_TILE_EMPTY || tiles[k + (size_t)w] != NT_TILE_EMPTY);
-            used[k] = 1;
+            while (!used[next_cell]) next_cell++;
+            x = (int)(next_cell % (size_t)w);
+            y = (int)(next_cell / (size_t)w);
+            next_cell++;
         }
         b.position = nt_v2(R(((double)x + 0.5 + bench_rng_range(&rng, -0.05, 0.05)) * (double)cell),
                            R(((double)y + 0.5 + bench_rng_range(&rng, -0.05, 0.05)) * (double)cell));
