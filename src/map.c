@@ -227,7 +227,7 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 
 /* Gather the masked per-tile candidates at p. Returns the number of overlapped
  * tiles; *nc receives the number of candidates, *lb the deepest unmasked single-tile
- * depth (no way out of the union is shorter). */
+ * depth (no way out of the union is shorter), or -1 when a masked tile overlaps. */
 static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsigned use_masks, cand *cs, int *nc,
                   int *all_convex, int *present, nt_real *lb)
 {
@@ -250,13 +250,10 @@ static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsig
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
             if (r == NT__SEPARATE) continue;
             overlapped++;
-            if (mask) {
-                nt_mtv u;
-                if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &u) == NT__PUSH && u.depth > *lb)
-                    *lb = u.depth;
-            } else if (m.depth > *lb) {
-                *lb = m.depth;
-            }
+            /* A masked tile's own depth is not known here: the bound is then left to
+             * depth_at, computed only if the certificate below fails. */
+            if (mask) *lb = -1;
+            else if (r == NT__PUSH && *lb >= 0 && m.depth > *lb) *lb = m.depth;
             if (nt__tiles[t].cls == NT_CLASS_CONCAVE) *all_convex = 0;
             if (r == NT__PUSH && *nc < MAX_CANDS) {
                 cand *c = &cs[(*nc)++];
@@ -372,6 +369,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     /* No way out of the union is shorter than the way out of its deepest tile: a
      * candidate below that bound can free the object only within the tolerance of
      * is_free, leaving it slightly inside, so it is not taken. */
+    if (lb < 0) lb = depth_at(map, p, shape, h);
     *lower = lb;
     nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
     nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
