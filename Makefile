@@ -52,7 +52,7 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan determinism run clean deps-cc deps-test
+.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -104,6 +104,19 @@ asan:
 	@$(MAKE) --no-print-directory BUILD=$(BUILD_ASAN) OPT="-O1 -g" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" test
 
+# Every test under valgrind memcheck (children too: test_query runs the CLI): any
+# error or leak fails.
+BUILD_VG ?= build/valgrind
+VALGRIND := valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
+            --show-leak-kinds=definite,indirect --trace-children=yes
+valgrind:
+	@tools/deps.sh cc cmocka valgrind
+	@$(MAKE) --no-print-directory BUILD=$(BUILD_VG) OPT="-O1 -g" $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%) $(BUILD_VG)/ntile
+	@pass=0; fail=0; for t in $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%); do \
+	  echo "== valgrind $$t"; if NTILE=$(BUILD_VG)/ntile $(VALGRIND) $$t >$$t.vg.log 2>&1; then pass=$$((pass+1)); \
+	  else fail=$$((fail+1)); tail -30 $$t.vg.log; echo "FAILED: $$t"; fi; \
+	done; echo "valgrind: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
+
 # The golden world hash must come out of gcc and clang at -O0, -O2 and -O3, in both
 # scalar builds: test_world pins it (test_determinism_and_golden_hash).
 DET_CCS ?= gcc clang
@@ -116,6 +129,28 @@ determinism:
 	  $$b/tests/test_world 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/test_world; exit 1; }; \
 	  $$b/tests/test_world 2>&1 | grep 'golden hash'; \
 	done; done; done
+
+# libFuzzer harnesses (tests/fuzz/fuzz_*.c), built with clang and run FUZZ_SECONDS each
+# on their committed seed corpus (tests/fuzz/corpus/NAME); new inputs go to a scratch
+# corpus in build/fuzz. Any crash, leak, sanitizer report or timeout fails the target.
+FUZZ_SECONDS ?= 60
+FUZZ_CFLAGS := -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+               -ffp-contract=off -Iinclude -Itests $(DEFS) $(WARN)
+FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_EXTRA_query := tools/ntile/query.c
+fuzz:
+	@tools/deps.sh clang fuzzer
+	@mkdir -p build/fuzz
+	@set -e; for n in $(FUZZ_NAMES); do \
+	  extra=""; [ "$$n" = query ] && extra="$(FUZZ_EXTRA_query)"; \
+	  clang $(FUZZ_CFLAGS) tests/fuzz/fuzz_$$n.c $$extra $(LIB_SRC) -lm -o build/fuzz/fuzz_$$n; \
+	  mkdir -p build/fuzz/work_$$n tests/fuzz/corpus/$$n; \
+	  echo "== fuzz $$n ($(FUZZ_SECONDS) s)"; \
+	  build/fuzz/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=build/fuzz/crash_$$n- build/fuzz/work_$$n tests/fuzz/corpus/$$n 2>build/fuzz/$$n.log \
+	    || { tail -40 build/fuzz/$$n.log; echo "fuzz $$n: FAILED (inputs in build/fuzz/crash_$$n-*)"; exit 1; }; \
+	  grep -E "stat::number_of_executed_units|stat::peak_rss" build/fuzz/$$n.log | tr '\n' ' '; echo; \
+	done
 
 run: $(BUILD)/ntile
 	$(BUILD)/ntile query levels/demo.query

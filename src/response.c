@@ -74,6 +74,7 @@ static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
  * words. Keys are unique, so the order is fully determined. */
 static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_t *keys)
 {
+    if (n <= 0) return; /* keys may still be NULL */
     uint64_t *a = keys, *b = keys + 2 * (size_t)n;
     uint64_t all_or = 0, all_and = ~(uint64_t)0;
     for (int i = 0; i < n; i++) {
@@ -800,6 +801,23 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
     return n;
 }
 
+/* A velocity whose squared length overflows (huge gravity times a huge gravity
+ * scale, say): keep its direction at speed vmax; NaN parts become 0. */
+static nt_vec2 clamp_overflow(nt_vec2 v, nt_real vmax)
+{
+    nt_real x = v.x == v.x ? v.x : 0, y = v.y == v.y ? v.y : 0;
+    if (nt__fabs(x) > NT_REAL_MAX || nt__fabs(y) > NT_REAL_MAX) { /* an infinity: its sign is the direction */
+        x = nt__fabs(x) > NT_REAL_MAX ? (x > 0 ? R(1) : R(-1)) : 0;
+        y = nt__fabs(y) > NT_REAL_MAX ? (y > 0 ? R(1) : R(-1)) : 0;
+    }
+    nt_real m = nt__max(nt__fabs(x), nt__fabs(y));
+    if (m == 0) return nt_v2(0, 0);
+    x /= m;
+    y /= m;
+    nt_real l = nt__sqrt(x * x + y * y);
+    return nt_v2(x / l * vmax, y / l * vmax);
+}
+
 static void move_bodies(nt_world *w, nt_real dt)
 {
     nt_real maxd = w->def.max_cells_per_step * w->cell;
@@ -808,7 +826,8 @@ static void move_bodies(nt_world *w, nt_real dt)
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
         nt_real sp2 = nt__dot(b->v, b->v);
-        if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
+        if (!(sp2 <= NT_REAL_MAX)) b->v = clamp_overflow(b->v, maxd / dt);
+        else if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
         if (b->type == NT_BODY_KINEMATIC) {
             b->p.x += b->v.x * dt;
             b->p.y += b->v.y * dt;

@@ -2,6 +2,7 @@
  * queries, debug drawing and the state hash. The step itself is in response.c,
  * the broad phase in grid.c. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "core.h"
 
@@ -512,6 +513,16 @@ static nt_status check_shape(const nt_world *w, nt_shape s)
     return NT_OK;
 }
 
+/* Positions must lie within NT_WORLD_REACH_CELLS cells of the map: beyond that the
+ * resolution cannot bring a body back (and far enough out, float positions stop
+ * resolving a cell at all). */
+static int in_reach(const nt_world *w, nt_vec2 p)
+{
+    nt_real m = w->cell * NT_WORLD_REACH_CELLS;
+    return p.x >= -m && p.y >= -m && p.x <= (nt_real)w->map->w * w->cell + m &&
+           p.y <= (nt_real)w->map->h * w->cell + m;
+}
+
 static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
 {
     if (d->type != NT_BODY_STATIC && d->type != NT_BODY_KINEMATIC && d->type != NT_BODY_DYNAMIC)
@@ -523,6 +534,7 @@ static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
     if (s != NT_OK) return s;
     s = check_material(&w->def, d->material);
     if (s != NT_OK) return s;
+    if (!in_reach(w, d->position)) return NT_ERR_OUT_OF_RANGE;
     if (d->type == NT_BODY_DYNAMIC && d->mass <= 0) return NT_ERR_INVALID_ARGUMENT;
     if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
     return NT_OK;
@@ -669,6 +681,7 @@ nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!finite2(p)) return NT_ERR_NON_FINITE;
+    if (!in_reach(w, p)) return NT_ERR_OUT_OF_RANGE;
     int32_t i = id.index1 - 1;
     b->p = p;
     b->ntc = 0;
@@ -993,6 +1006,64 @@ static void cell_clamped(const nt_world *w, int x, int y, int *cx, int *cy)
     *cy = y < 0 ? 0 : (y >= w->grid_h ? w->grid_h - 1 : y);
 }
 
+/* Test the bodies of one grid cell against the segment p0 + t d. */
+static void ray_cell(const nt_world *w, int32_t cell, nt_vec2 p0, nt_vec2 d, nt_query_filter filter,
+                     nt_world_ray_hit *best)
+{
+    for (int list = 0; list < 2; list++)
+        for (int32_t j = w->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
+            const nt__body *b = &w->bodies[j];
+            if (!query_sees(b, filter)) continue;
+            nt_real t;
+            nt_vec2 n;
+            if (ray_body(b, p0, d, &t, &n) && t < best->fraction) {
+                best->fraction = t;
+                best->body = make_id(w, j);
+                best->normal = n;
+                best->point = nt__add(p0, nt__scale(d, t));
+                best->cell_x = best->cell_y = 0;
+            }
+        }
+}
+
+/* Walk the cells the segment crosses from t0 to t1 (Amanatides & Woo), testing the
+ * bodies of the 3 x 3 cells around each: a body reaches 1.5 cells from its cell. */
+static void ray_walk(const nt_world *w, nt_vec2 p0, nt_vec2 d, nt_real t0, nt_real t1, nt_query_filter filter,
+                     nt_world_ray_hit *best)
+{
+    nt_real ic = w->inv_cell;
+    nt_vec2 a = nt__add(p0, nt__scale(d, t0)), e = nt__add(p0, nt__scale(d, t1));
+    int cx = nt__floor_int(a.x * ic), cy = nt__floor_int(a.y * ic);
+    int ex = nt__floor_int(e.x * ic), ey = nt__floor_int(e.y * ic);
+    int sx = d.x > 0 ? 1 : (d.x < 0 ? -1 : 0), sy = d.y > 0 ? 1 : (d.y < 0 ? -1 : 0);
+    nt_real tdx = sx ? w->cell / nt__fabs(d.x) : NT_REAL_MAX, tdy = sy ? w->cell / nt__fabs(d.y) : NT_REAL_MAX;
+    nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * w->cell - p0.x) / d.x : NT_REAL_MAX;
+    nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * w->cell - p0.y) / d.y : NT_REAL_MAX;
+    nt_real len = nt__len(d);
+    nt_real reach = len > 0 ? R(2) * w->cell / len : NT_REAL_MAX;
+    nt_real t_cell = t0;
+    long guard = labs((long)ex - cx) + labs((long)ey - cy) + 2;
+    for (long step = 0; step <= guard; step++) {
+        if (t_cell > t1 || t_cell > best->fraction + reach) break;
+        for (int oy = -1; oy <= 1; oy++)
+            for (int ox = -1; ox <= 1; ox++) {
+                int gx, gy;
+                cell_clamped(w, cx + ox, cy + oy, &gx, &gy);
+                ray_cell(w, gy * w->grid_w + gx, p0, d, filter, best);
+            }
+        if (cx == ex && cy == ey) break;
+        if (tx < ty) {
+            t_cell = tx;
+            tx += tdx;
+            cx += sx;
+        } else {
+            t_cell = ty;
+            ty += tdy;
+            cy += sy;
+        }
+    }
+}
+
 bool nt_world_raycast(const nt_world *w, nt_vec2 p0, nt_vec2 p1, nt_query_filter filter, nt_world_ray_hit *out)
 {
     nt_world_ray_hit best;
@@ -1012,50 +1083,35 @@ bool nt_world_raycast(const nt_world *w, nt_vec2 p0, nt_vec2 p1, nt_query_filter
     }
     if (w->heads && w->grid_bodies > 0 && filter.mask != 0) {
         nt_vec2 d = nt__sub(p1, p0);
-        nt_real ic = w->inv_cell;
-        /* Walk the cells the segment crosses; a body can reach 1.5 cells from its cell. */
-        int cx = nt__floor_int(p0.x * ic), cy = nt__floor_int(p0.y * ic);
-        int ex = nt__floor_int(p1.x * ic), ey = nt__floor_int(p1.y * ic);
-        int sx = d.x > 0 ? 1 : (d.x < 0 ? -1 : 0), sy = d.y > 0 ? 1 : (d.y < 0 ? -1 : 0);
-        nt_real tdx = sx ? w->cell / nt__fabs(d.x) : NT_REAL_MAX, tdy = sy ? w->cell / nt__fabs(d.y) : NT_REAL_MAX;
-        nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * w->cell - p0.x) / d.x : NT_REAL_MAX;
-        nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * w->cell - p0.y) / d.y : NT_REAL_MAX;
-        nt_real len = nt__len(d);
-        nt_real reach = len > 0 ? R(2) * w->cell / len : NT_REAL_MAX;
-        nt_real t_cell = 0;
-        long guard = (long)(nt__fabs((nt_real)(ex - cx)) + nt__fabs((nt_real)(ey - cy))) + 2;
-        for (long step = 0; step <= guard; step++) {
-            if (t_cell > 1 || t_cell > best.fraction + reach) break;
-            for (int oy = -1; oy <= 1; oy++)
-                for (int ox = -1; ox <= 1; ox++) {
-                    int gx, gy;
-                    cell_clamped(w, cx + ox, cy + oy, &gx, &gy);
-                    int32_t cell = gy * w->grid_w + gx;
-                    for (int list = 0; list < 2; list++)
-                        for (int32_t j = w->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
-                            const nt__body *b = &w->bodies[j];
-                            if (!query_sees(b, filter)) continue;
-                            nt_real t;
-                            nt_vec2 n;
-                            if (ray_body(b, p0, d, &t, &n) && t < best.fraction) {
-                                best.fraction = t;
-                                best.body = make_id(w, j);
-                                best.normal = n;
-                                best.point = nt__add(p0, nt__scale(d, t));
-                                best.cell_x = best.cell_y = 0;
-                            }
-                        }
-                }
-            if (cx == ex && cy == ey) break;
-            if (tx < ty) {
-                t_cell = tx;
-                tx += tdx;
-                cx += sx;
-            } else {
-                t_cell = ty;
-                ty += tdy;
-                cy += sy;
+        /* Walk only the part of the segment within 2 cells of the map (Liang-Barsky):
+         * a far-away segment must not cost a walk through empty space. */
+        nt_real t0 = 0, t1 = 1;
+        nt_real lo[2] = {-2 * w->cell, -2 * w->cell};
+        nt_real hi[2] = {((nt_real)w->grid_w + 2) * w->cell, ((nt_real)w->grid_h + 2) * w->cell};
+        nt_real o[2] = {p0.x, p0.y}, dd[2] = {d.x, d.y};
+        for (int k = 0; k < 2 && t0 <= t1; k++) {
+            if (dd[k] == 0) {
+                if (o[k] < lo[k] || o[k] > hi[k]) t1 = -1;
+                continue;
             }
+            nt_real ta = (lo[k] - o[k]) / dd[k], tb = (hi[k] - o[k]) / dd[k];
+            if (ta > tb) {
+                nt_real t = ta;
+                ta = tb;
+                tb = t;
+            }
+            if (ta > t0) t0 = ta;
+            if (tb < t1) t1 = tb;
+        }
+        if (t0 <= t1) ray_walk(w, p0, d, t0, t1, filter, &best);
+        /* Bodies outside the map live in the border cells' lists: when part of the
+         * segment lies beyond the walked box, test those directly. */
+        if (t0 > 0 || t1 < 1) {
+            for (int gy = 0; gy < w->grid_h; gy++)
+                for (int gx = 0; gx < w->grid_w; gx++) {
+                    if (gy != 0 && gy != w->grid_h - 1 && gx != 0 && gx != w->grid_w - 1) continue;
+                    ray_cell(w, gy * w->grid_w + gx, p0, d, filter, &best);
+                }
         }
     }
     if (best.fraction > 1) return false;

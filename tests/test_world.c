@@ -232,6 +232,8 @@ static void test_body_def_errors(void **state)
         {NT_ERR_INVALID_ARGUMENT, 14}, /* N friction above 1 */
         {NT_ERR_NON_FINITE, 15},      /* NaN gravity scale */
         {NT_ERR_NON_FINITE, 16},      /* infinite half-size */
+        {NT_ERR_OUT_OF_RANGE, 17},    /* beyond NT_WORLD_REACH_CELLS to the left */
+        {NT_ERR_OUT_OF_RANGE, 18},    /* far below the map */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         nt_body_def d = nt_default_body_def();
@@ -255,6 +257,8 @@ static void test_body_def_errors(void **state)
         case 14: d.material.friction = R(1.01); break;
         case 15: d.gravity_scale = (nt_real)NAN; break;
         case 16: d.shape.half.x = (nt_real)INFINITY; break;
+        case 17: d.position.x = R(-NT_WORLD_REACH_CELLS - 0.01); break;
+        case 18: d.position.y = R(1e30); break;
         }
         nt_body_id id = {7, 7};
         assert_int_equal(nt_body_create(w, &d, &id), cases[k].want);
@@ -262,6 +266,17 @@ static void test_body_def_errors(void **state)
         assert_int_equal(nt_world_get_body_count(w), 1);
         assert_true(nt_world_hash(w) == h);
     }
+    /* Within reach outside the map is allowed; moving a body beyond it is not. */
+    nt_body_def far = nt_default_body_def();
+    far.shape = nt_shape_aabb(R(0.25), R(0.25));
+    far.type = NT_BODY_STATIC;
+    far.position = nt_v2(R(-NT_WORLD_REACH_CELLS + 0.5), R(10 + NT_WORLD_REACH_CELLS - 0.5));
+    nt_body_id fid;
+    assert_int_equal(nt_body_create(w, &far, &fid), NT_OK);
+    nt_vec2 before = nt_body_get_position(w, keep);
+    assert_int_equal(nt_body_set_position(w, keep, nt_v2(R(5), R(-3e38))), NT_ERR_OUT_OF_RANGE);
+    assert_true(nt_body_get_position(w, keep).x == before.x && nt_body_get_position(w, keep).y == before.y);
+    assert_int_equal(nt_body_destroy(w, fid), NT_OK);
     /* Exactly half a cell is allowed, and static bodies need no mass. */
     nt_body_def d = nt_default_body_def();
     d.shape = nt_shape_aabb(R(0.5), R(0.5));
@@ -520,6 +535,26 @@ static void test_determinism_and_golden_hash(void **state)
     nt_world_destroy(w2);
 }
 
+/* Huge gravity times a huge gravity scale overflows the velocity: the step keeps it
+ * finite, at the speed limit, pointing the way gravity pulls (found by the fuzzer). */
+static void test_velocity_overflow(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(10, 40, 1);
+    nt_body_id id = add_box(w, 5, 5, R(0.25), R(0.25));
+    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, R(3e38))), NT_OK);
+    assert_int_equal(nt_body_set_gravity_scale(w, id, R(3e38)), NT_OK);
+    nt_world_def d = nt_default_world_def();
+    nt_real dt = R(1.0 / 60);
+    assert_int_equal(nt_world_step(w, dt), NT_OK);
+    nt_vec2 v = nt_body_get_velocity(w, id), p = nt_body_get_position(w, id);
+    assert_true(isfinite((double)v.x) && isfinite((double)v.y) && isfinite((double)p.y));
+    assert_true(v.x == 0 && v.y > 0);
+    /* The body moved down by the speed limit, max_cells_per_step cells (cell 1). */
+    assert_true(fabs((double)p.y - 5 - (double)d.max_cells_per_step) < 1e-4);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- queries */
 
 static int g_found[16], g_nfound;
@@ -624,6 +659,39 @@ static void test_raycast(void **state)
     assert_true(fabs((double)hit.normal.x - (double)(q.x - 10) / 0.5) < 1e-4);
     /* Too short. */
     assert_false(nt_world_raycast(w, nt_v2(1, R(5.5)), nt_v2(4, R(5.5)), f, &hit));
+    nt_world_destroy(w);
+}
+
+/* Rays with far-away ends cost a walk over the map only, and still see bodies that
+ * lie outside the map (found by the fuzzer: a walk through 1e9 empty cells). */
+static void test_far_rays(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(20, 10, 1);
+    nt_body_id in = add_box(w, 5, R(5.5), R(0.25), R(0.25));
+    nt_body_def d = nt_default_body_def();
+    d.type = NT_BODY_STATIC;
+    d.shape = nt_shape_circle(R(0.5));
+    d.position = nt_v2(-30, R(2.5)); /* outside the map, within reach */
+    nt_body_id out;
+    assert_int_equal(nt_body_create(w, &d, &out), NT_OK);
+    nt_query_filter f = nt_default_query_filter();
+    f.tiles = false;
+    nt_world_ray_hit hit;
+    /* From far left to far right through the box (as far as float still resolves a
+     * quarter cell there): it enters at x = 4.75. */
+    assert_true(nt_world_raycast(w, nt_v2(R(-1e5), R(5.5)), nt_v2(R(1e5), R(5.5)), f, &hit));
+    assert_true(nt_body_id_equals(hit.body, in));
+    assert_true(fabs((double)hit.point.x - 4.75) < 0.02);
+    assert_true(hit.normal.x == -1 && hit.normal.y == 0);
+    /* Along y = 2.5 from far left: the circle outside the map comes first. */
+    assert_true(nt_world_raycast(w, nt_v2(R(-1e3), R(2.5)), nt_v2(R(1e3), R(2.5)), f, &hit));
+    assert_true(nt_body_id_equals(hit.body, out));
+    assert_true(hit.normal.x < -0.99f);
+    /* Far segments that never come near the map miss, at once (not a walk through
+     * 1e29 cells). */
+    assert_false(nt_world_raycast(w, nt_v2(R(-1e30), R(5.5)), nt_v2(R(-1e29), R(5.5)), f, &hit));
+    assert_false(nt_world_raycast(w, nt_v2(R(-1e30), R(-1e30)), nt_v2(R(-1e29), R(-1e30)), f, &hit));
     nt_world_destroy(w);
 }
 
@@ -860,6 +928,8 @@ int main(void)
         cmocka_unit_test(test_raycast),
         cmocka_unit_test(test_debug_draw),
         cmocka_unit_test(test_debug_draw_gizmos),
+        cmocka_unit_test(test_velocity_overflow),
+        cmocka_unit_test(test_far_rays),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -90,6 +90,11 @@ typedef struct nt_material {
     nt_real bounce;   ///< restitution in [0, 1]
 } nt_material;
 
+/// Body positions (creation, nt_body_set_position) must lie within this many cells of
+/// the map, else NT_ERR_OUT_OF_RANGE: the tile resolution brings a body back into the
+/// map from at most that far.
+#define NT_WORLD_REACH_CELLS 64
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -218,7 +223,8 @@ typedef struct nt_body_def {
 nt_body_def nt_default_body_def(void);
 
 /// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
-/// half a cell), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
+/// half a cell), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS from the
+/// map), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
 /// for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
 /// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
@@ -241,7 +247,8 @@ nt_real nt_body_get_mass(const nt_world *world, nt_body_id id);
 /// Centre position.
 nt_vec2 nt_body_get_position(const nt_world *world, nt_body_id id);
 
-/// Move the body to a new centre (no collision on the way); wakes it.
+/// Move the body to a new centre (no collision on the way); wakes it. NT_ERR_OUT_OF_RANGE
+/// farther than NT_WORLD_REACH_CELLS cells from the map.
 nt_status nt_body_set_position(nt_world *world, nt_body_id id, nt_vec2 position);
 
 /// Velocity in units/s.

@@ -15,6 +15,9 @@ enum { CLI_OK = 0, CLI_INPUT_ERRORS = 1, CLI_USAGE = 2 };
 /* `ntile query [--max-line BYTES] [FILE|-]` (query.c); the usage functions print
  * that subcommand's part of the help text. */
 int cli_query(int argc, char **argv);
+/* The same protocol over a buffer (the fuzz harness): answers go to out; max_line 0
+ * means the default limit. Returns the exit status. */
+int cli_query_buffer(const void *buf, size_t len, FILE *out, size_t max_line);
 void cli_query_usage(FILE *f);
 
 /* `ntile bench SCENE [OPTIONS]` (bench.c). */

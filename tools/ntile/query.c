@@ -42,7 +42,9 @@
  * are flushed before each read, so a program can drive the CLI through pipes one
  * line at a time, while files are still read in large blocks. */
 typedef struct reader {
-    int fd;
+    int fd;         /* -1: read from mem instead */
+    const unsigned char *mem;
+    size_t mem_left;
     FILE *flush;    /* flushed before waiting for input */
     size_t pos, len;
     int eof;
@@ -54,6 +56,19 @@ typedef struct reader {
 static int reader_fill(reader *r)
 {
     if (r->eof) return 0;
+    if (r->fd < 0) {
+        size_t n = r->mem_left < sizeof r->buf ? r->mem_left : sizeof r->buf;
+        if (n == 0) {
+            r->eof = 1;
+            return 0;
+        }
+        memcpy(r->buf, r->mem, n);
+        r->mem += n;
+        r->mem_left -= n;
+        r->pos = 0;
+        r->len = n;
+        return 1;
+    }
     fflush(r->flush);
     for (;;) {
         ssize_t n = read(r->fd, r->buf, sizeof r->buf);
@@ -467,6 +482,45 @@ static void run_line(query *q, char *text)
 
 /* ---------- the subcommand ---------- */
 
+/* Answer every line of r on out. Returns the exit status. */
+static int query_run(reader *r, FILE *out, size_t max_line, const char *label)
+{
+    r->flush = out;
+    r->pos = r->len = 0;
+    r->eof = 0;
+    r->error = 0;
+    query q = {0};
+    q.out = out;
+    line l = {0};
+    while (read_line(r, &l, max_line)) {
+        q.lineno++;
+        /* Blank and comment lines are judged by their first non-blank byte, even when
+         * the line is too long to keep whole. */
+        size_t first = 0;
+        while (first < l.len && is_space(l.text[first])) first++;
+        if (first < l.len && l.text[first] == '#') continue;
+        const char *nul = l.len ? memchr(l.text, '\0', l.len) : NULL;
+        if (l.too_long) fail(&q, "line longer than %zu bytes", max_line);
+        else if (l.no_memory) fail(&q, "out of memory reading the line");
+        else if (first == l.len) continue;
+        else if (nul) fail(&q, "embedded NUL byte at column %zu", (size_t)(nul - l.text) + 1);
+        else run_line(&q, l.text);
+    }
+    int status = q.errors ? CLI_INPUT_ERRORS : CLI_OK;
+    if (r->error) {
+        fprintf(stderr, "ntile query: error reading %s: %s\n", label, strerror(r->error));
+        status = CLI_USAGE;
+    }
+    if (fflush(out) != 0 || ferror(out)) {
+        fprintf(stderr, "ntile query: error writing the output\n");
+        status = CLI_USAGE;
+    }
+    nt_map_destroy(q.map);
+    free(q.fields);
+    free(l.text);
+    return status;
+}
+
 void cli_query_usage(FILE *f)
 {
     fputs("  ntile query [--max-line BYTES] [FILE|-]\n"
@@ -537,40 +591,22 @@ int cli_query(int argc, char **argv)
         return CLI_USAGE;
     }
     r->fd = fd;
-    r->flush = stdout;
-    r->pos = r->len = 0;
-    r->eof = 0;
-    r->error = 0;
-    query q = {0};
-    q.out = stdout;
-    line l = {0};
-    while (read_line(r, &l, max_line)) {
-        q.lineno++;
-        /* Blank and comment lines are judged by their first non-blank byte, even when
-         * the line is too long to keep whole. */
-        size_t first = 0;
-        while (first < l.len && is_space(l.text[first])) first++;
-        if (first < l.len && l.text[first] == '#') continue;
-        const char *nul = l.len ? memchr(l.text, '\0', l.len) : NULL;
-        if (l.too_long) fail(&q, "line longer than %zu bytes", max_line);
-        else if (l.no_memory) fail(&q, "out of memory reading the line");
-        else if (first == l.len) continue;
-        else if (nul) fail(&q, "embedded NUL byte at column %zu", (size_t)(nul - l.text) + 1);
-        else run_line(&q, l.text);
-    }
-    int status = q.errors ? CLI_INPUT_ERRORS : CLI_OK;
-    if (r->error) {
-        fprintf(stderr, "ntile query: error reading %s: %s\n", label, strerror(r->error));
-        status = CLI_USAGE;
-    }
+    r->mem = NULL;
+    r->mem_left = 0;
+    int status = query_run(r, stdout, max_line, label);
     if (fd != STDIN_FILENO) close(fd);
-    if (fflush(stdout) != 0 || ferror(stdout)) {
-        fprintf(stderr, "ntile query: error writing the output\n");
-        status = CLI_USAGE;
-    }
-    nt_map_destroy(q.map);
-    free(q.fields);
-    free(l.text);
+    free(r);
+    return status;
+}
+
+int cli_query_buffer(const void *buf, size_t len, FILE *out, size_t max_line)
+{
+    reader *r = malloc(sizeof *r);
+    if (!r) return CLI_USAGE;
+    r->fd = -1;
+    r->mem = (const unsigned char *)buf;
+    r->mem_left = len;
+    int status = query_run(r, out, max_line ? max_line : QUERY_DEFAULT_MAX_LINE, "the buffer");
     free(r);
     return status;
 }
