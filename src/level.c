@@ -258,8 +258,11 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
 static const char *path_problem(const nt_level_path *p)
 {
     if (!nt__valid_name(p->name)) return "invalid name";
-    if (!nt__finite(p->speed) || !fin2(p->center) || !nt__finite(p->radius)) return "non-finite number";
+    if (!nt__finite(p->speed) || !fin2(p->center) || !nt__finite(p->radius) || !nt__finite(p->wait))
+        return "non-finite number";
     if (p->speed <= 0) return "speed must be > 0";
+    if (p->wait < 0) return "negative wait";
+    if (p->mode == NT_PATH_ORBIT && p->wait != 0) return "an orbit has no waypoints to wait at";
     if (p->mode == NT_PATH_ORBIT) {
         if (p->radius <= 0) return "radius must be > 0";
         return NULL;
@@ -754,7 +757,7 @@ static nt_status parse_region(parser *P)
     char q[NT__QUOTE_MAX];
     nt_level_region r;
     memset(&r, 0, sizeof r);
-    nt_status s = need(P, 7, form);
+    nt_status s = need(P, 6, form);
     if (s != NT_OK) return s;
     if (lv->region_count >= NT_LEVEL_MAX_OBJECTS)
         return nt__fail_col(t, t->f[0].col, "too many regions (at most %d)", NT_LEVEL_MAX_OBJECTS);
@@ -792,7 +795,8 @@ static nt_status parse_path(parser *P)
     nt__text *t = &P->t;
     nt_level *lv = P->lv;
     char q[NT__QUOTE_MAX];
-    static const char form[] = "path NAME loop|pingpong speed S points X Y X Y ... | path NAME orbit speed S center X Y radius R";
+    static const char form[] =
+        "path NAME loop|pingpong speed S [wait W] points X Y X Y ... | path NAME orbit speed S center X Y radius R";
     nt_level_path p;
     memset(&p, 0, sizeof p);
     nt_status s = need(P, 5, form);
@@ -819,17 +823,25 @@ static nt_status parse_path(parser *P)
         if ((s = positive_at(P, 9, "orbit radius", &p.radius)) != NT_OK) return s;
         if (t->nf > 10) return nt__fail_col(t, t->f[10].col, "unexpected field after the radius");
     } else {
-        if ((s = need(P, 6, form)) != NT_OK) return s;
-        if (!nt__field_is(&t->f[5], "points"))
-            return nt__fail_col(t, t->f[5].col, "expected 'points', got '%s'", nt__quote(q, t->f[5].s, t->f[5].n));
-        int nc = t->nf - 6;
+        int i = 5;
+        if (nt__field_is(&t->f[5], "wait")) {
+            if ((s = need(P, 7, form)) != NT_OK) return s;
+            if ((s = nonneg_at(P, 6, "wait", &p.wait)) != NT_OK) return s;
+            i = 7;
+        }
+        if ((s = need(P, i + 1, form)) != NT_OK) return s;
+        if (!nt__field_is(&t->f[i], "points"))
+            return nt__fail_col(t, t->f[i].col, "expected 'points'%s, got '%s'", i == 5 ? " or 'wait'" : "",
+                                nt__quote(q, t->f[i].s, t->f[i].n));
+        int first = i + 1;
+        int nc = t->nf - first;
         if (nc % 2 != 0) return nt__fail_col(t, nt__text_eol_col(t), "points need pairs X Y: the last point has no y");
         if (nc / 2 < 2) return nt__fail_col(t, nt__text_eol_col(t), "a path needs at least 2 points, got %d", nc / 2);
         if (nc / 2 > NT_LEVEL_MAX_PATH_POINTS)
-            return nt__fail_col(t, t->f[6 + 2 * NT_LEVEL_MAX_PATH_POINTS].col, "a path has at most %d points",
+            return nt__fail_col(t, t->f[first + 2 * NT_LEVEL_MAX_PATH_POINTS].col, "a path has at most %d points",
                                 NT_LEVEL_MAX_PATH_POINTS);
         for (int k = 0; k < nc / 2; k++)
-            if ((s = vec_at(P, 6 + 2 * k, "point x", "point y", &p.points[k])) != NT_OK) return s;
+            if ((s = vec_at(P, first + 2 * k, "point x", "point y", &p.points[k])) != NT_OK) return s;
         p.point_count = nc / 2;
     }
     if (!grow((void **)&lv->paths, lv->path_count, &P->path_cap, sizeof p)) return NT_ERR_OUT_OF_MEMORY;
@@ -898,7 +910,7 @@ static nt_status parse_body(parser *P)
     } else {
         return nt__fail_col(t, t->f[3].col, "unknown shape '%s' (expected box or circle)", nt__quote(q, t->f[3].s, t->f[3].n));
     }
-    if ((s = need(P, i + 3, form)) != NT_OK) return s;
+    if ((s = need(P, i + 2, form)) != NT_OK) return s;
     if (!nt__field_is(&t->f[i], "at"))
         return nt__fail_col(t, t->f[i].col, "expected 'at X Y', got '%s'", nt__quote(q, t->f[i].s, t->f[i].n));
     if ((s = vec_at(P, i + 1, "x", "y", &b.position)) != NT_OK) return s;
@@ -1342,6 +1354,10 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
             nt__sink_puts(&o, " radius ");
             nt__sink_real(&o, p->radius);
         } else {
+            if (!same_real(p->wait, 0)) {
+                nt__sink_puts(&o, " wait ");
+                nt__sink_real(&o, p->wait);
+            }
             nt__sink_puts(&o, " points");
             for (int k = 0; k < p->point_count; k++) {
                 nt__sink_puts(&o, " ");

@@ -155,9 +155,7 @@ static nt_status parse_expect(rparser *P)
         else if (nt__field_is(&t->f[i], "<=")) f.op = NT_OP_LE;
         else if (nt__field_is(&t->f[i], "==")) f.op = NT_OP_EQ;
         else return nt__fail_col(t, t->f[i].col, "unknown comparison '%s' (expected >=, <= or ==)", nt__quote(q, t->f[i].s, t->f[i].n));
-        nt_real v;
-        if ((s = nt__field_real(t, &t->f[i + 1], "value", &v)) != NT_OK) return s;
-        f.value = (double)v;
+        if ((s = nt__field_double(t, &t->f[i + 1], "value", &f.value)) != NT_OK) return s;
         i += 2;
     }
     if (i >= t->nf) return nt__fail_col(t, nt__text_eol_col(t), "missing 'at T', 'by T' or 'always'");
@@ -458,7 +456,7 @@ size_t nt_replay_write(const nt_replay *rp, char *buf, size_t cap)
             if (f->body[0]) nt__sink_printf(&o, " body %s", f->body);
         } else if (f->kind >= NT_FACT_SCORE) {
             nt__sink_printf(&o, " %s ", ops[f->op]);
-            nt__sink_real(&o, (nt_real)f->value);
+            nt__sink_double(&o, f->value);
         }
         if (f->when == NT_WHEN_ALWAYS) nt__sink_puts(&o, " always\n");
         else nt__sink_printf(&o, " %s %d\n", f->when == NT_WHEN_AT ? "at" : "by", f->tick);

@@ -200,6 +200,21 @@ static int decimal_syntax(const char *s, size_t n)
 
 nt_status nt__field_real(nt__text *t, const nt__field *f, const char *what, nt_real *out)
 {
+    double v;
+    nt_status s = nt__field_double(t, f, what, &v);
+    if (s != NT_OK) return s;
+    nt_real r = (nt_real)v;
+    if (!isfinite(r)) {
+        char q[NT__QUOTE_MAX];
+        return nt__fail_col(t, f->col, "%s '%s' is too large for %s", what, nt__quote(q, f->s, f->n),
+                            NT_REAL_IS_DOUBLE ? "double" : "float");
+    }
+    *out = r;
+    return NT_OK;
+}
+
+nt_status nt__field_double(nt__text *t, const nt__field *f, const char *what, double *out)
+{
     char q[NT__QUOTE_MAX], buf[80];
     const char *s = f->s;
     size_t n = f->n, k = (n > 0 && (s[0] == '+' || s[0] == '-')) ? 1 : 0;
@@ -211,11 +226,7 @@ nt_status nt__field_real(nt__text *t, const nt__field *f, const char *what, nt_r
     buf[n] = '\0';
     double v = strtod(buf, NULL);
     if (!isfinite(v)) return nt__fail_col(t, f->col, "%s '%s' is not a finite number", what, nt__quote(q, s, n));
-    nt_real r = (nt_real)v;
-    if (!isfinite(r))
-        return nt__fail_col(t, f->col, "%s '%s' is too large for %s", what, nt__quote(q, s, n),
-                            NT_REAL_IS_DOUBLE ? "double" : "float");
-    *out = r;
+    *out = v;
     return NT_OK;
 }
 
@@ -416,6 +427,20 @@ void nt__format_real(char *buf, nt_real v)
         nt_real back = (nt_real)strtod(buf, NULL);
         if (memcmp(&back, &v, sizeof v) == 0) return;
     }
+}
+
+void nt__sink_double(nt__sink *s, double v)
+{
+    char buf[40];
+    if (v == floor(v) && fabs(v) < 1e15 && !(v == 0 && signbit(v))) {
+        snprintf(buf, sizeof buf, "%.0f", v);
+    } else {
+        for (int p = 1; p <= 17; p++) {
+            snprintf(buf, sizeof buf, "%.*g", p, v);
+            if (strtod(buf, NULL) == v) break;
+        }
+    }
+    nt__sink_puts(s, buf);
 }
 
 void nt__sink_real(nt__sink *s, nt_real v)

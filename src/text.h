@@ -76,6 +76,8 @@ int nt__field_is(const nt__field *f, const char *word);
 /* Numbers. A real is [+-]digits[.digits][e[+-]digits] (or .digits); 'inf' and 'nan'
  * are recognised to be rejected as non-finite. Each returns NT_OK or the error. */
 nt_status nt__field_real(nt__text *t, const nt__field *f, const char *what, nt_real *out);
+/* The same number kept as a double (replay fact values). */
+nt_status nt__field_double(nt__text *t, const nt__field *f, const char *what, double *out);
 nt_status nt__field_int(nt__text *t, const nt__field *f, const char *what, long long lo, long long hi, long long *out);
 /* An unsigned 32-bit value, decimal or 0x hex. */
 nt_status nt__field_u32(nt__text *t, const nt__field *f, const char *what, uint32_t *out);
@@ -116,5 +118,6 @@ size_t nt__sink_finish(nt__sink *s);
 
 /* Shortest round-trip decimal of v into buf (at least 32 bytes). */
 void nt__format_real(char *buf, nt_real v);
+void nt__sink_double(nt__sink *s, double v);
 
 #endif

@@ -150,9 +150,12 @@ nt_vec2 nt_path_position(const nt_level_path *path, double time, double phase);
 typedef struct nt_run_report {
     bool passed;
     int ticks;                ///< ticks run
-    int failure_count;        ///< failed facts and hash mismatches
+    int failure_count;        ///< fact_failures + hash_failures
+    int fact_failures;        ///< facts that did not hold (or could not be checked)
+    int hash_failures;        ///< recorded hashes or trace values that differ
     int message_count;        ///< messages kept (at most NT_RUN_MAX_MESSAGES)
     char messages[NT_RUN_MAX_MESSAGES][320];
+    bool message_is_hash[NT_RUN_MAX_MESSAGES]; ///< the message is about hashes, not facts
     uint64_t *hashes;         ///< hashes[t] = nt_game_hash after tick t, t = 0..ticks
     int first_divergence;     ///< first tick whose hash differs from the recorded trace or hashes, or -1
     nt_game_state final_state;

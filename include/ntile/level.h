@@ -64,7 +64,7 @@ typedef struct nt_level_region {
 /// How a kinematic body follows its path.
 typedef enum nt_path_mode {
     NT_PATH_LOOP = 0,     ///< waypoints in order, back to the first, forever
-    NT_PATH_PINGPONG = 1, ///< to the last waypoint and back
+    NT_PATH_PINGPONG = 1, ///< to the last waypoint and back (p0 .. pn-1 .. p1, then again)
     NT_PATH_ORBIT = 2     ///< a circle around `center` of `radius`, clockwise on screen
 } nt_path_mode;
 
@@ -73,6 +73,7 @@ typedef struct nt_level_path {
     char name[NT_LEVEL_NAME_MAX];
     nt_path_mode mode;
     nt_real speed; ///< world units per second along the path, > 0
+    nt_real wait;  ///< LOOP, PINGPONG: seconds the body rests at each waypoint, >= 0
     int point_count;
     nt_vec2 points[NT_LEVEL_MAX_PATH_POINTS]; ///< LOOP, PINGPONG: 2 or more waypoints
     nt_vec2 center;                           ///< ORBIT

@@ -36,36 +36,39 @@ static double seg_len(nt_vec2 a, nt_vec2 b)
 nt_vec2 nt_path_position(const nt_level_path *p, double time, double phase)
 {
     if (!p) return nt_v2(0, 0);
-    double s = time * (double)p->speed;
     if (p->mode == NT_PATH_ORBIT) {
         const double two_pi = 6.283185307179586;
-        double a = two_pi * phase + s / (double)p->radius;
+        double a = two_pi * phase + time * (double)p->speed / (double)p->radius;
         return nt_v2((nt_real)((double)p->center.x + (double)p->radius * cos(a)),
                      (nt_real)((double)p->center.y + (double)p->radius * sin(a)));
     }
     int n = p->point_count;
     if (n < 2) return n == 1 ? p->points[0] : nt_v2(0, 0);
-    int segs = p->mode == NT_PATH_LOOP ? n : n - 1;
-    double len = 0;
-    for (int i = 0; i < segs; i++) len += seg_len(p->points[i], p->points[(i + 1) % n]);
-    if (len <= 0) return p->points[0];
-    double u;
-    if (p->mode == NT_PATH_LOOP) {
-        u = fmod(s + phase * len, len);
-    } else {
-        u = fmod(s + phase * 2 * len, 2 * len);
-        if (u > len) u = 2 * len - u;
+    /* The tour as a loop of legs: LOOP p0..pn-1 and back to p0; PINGPONG p0..pn-1..p1
+     * and back to p0. Each leg starts with `wait` seconds at its first point. */
+    int legs = p->mode == NT_PATH_LOOP ? n : 2 * (n - 1);
+    double wait = (double)p->wait, speed = (double)p->speed, cycle = 0;
+    for (int k = 0; k < legs; k++) {
+        int a = k < n ? k : 2 * (n - 1) - k, b = k + 1 < n ? k + 1 : 2 * (n - 1) - (k + 1);
+        if (p->mode == NT_PATH_LOOP) a = k, b = (k + 1) % n;
+        cycle += wait + seg_len(p->points[a], p->points[b]) / speed;
     }
-    for (int i = 0; i < segs; i++) {
-        nt_vec2 a = p->points[i], b = p->points[(i + 1) % n];
-        double l = seg_len(a, b);
-        if (u <= l || i == segs - 1) {
-            double f = l > 0 ? u / l : 0;
+    if (cycle <= 0) return p->points[0];
+    double u = fmod(time + phase * cycle, cycle);
+    for (int k = 0; k < legs; k++) {
+        int a = k < n ? k : 2 * (n - 1) - k, b = k + 1 < n ? k + 1 : 2 * (n - 1) - (k + 1);
+        if (p->mode == NT_PATH_LOOP) a = k, b = (k + 1) % n;
+        nt_vec2 pa = p->points[a], pb = p->points[b];
+        if (u < wait) return pa;
+        u -= wait;
+        double travel = seg_len(pa, pb) / speed;
+        if (u <= travel || k == legs - 1) {
+            double f = travel > 0 ? u / travel : 1;
             if (f > 1) f = 1;
-            return nt_v2((nt_real)((double)a.x + f * ((double)b.x - (double)a.x)),
-                         (nt_real)((double)a.y + f * ((double)b.y - (double)a.y)));
+            return nt_v2((nt_real)((double)pa.x + f * ((double)pb.x - (double)pa.x)),
+                         (nt_real)((double)pa.y + f * ((double)pb.y - (double)pa.y)));
         }
-        u -= l;
+        u -= travel;
     }
     return p->points[0];
 }

@@ -26,6 +26,13 @@ typedef struct runner {
     double ke0, p0x, p0y, pscale;
 } runner;
 
+static void vmessage(nt_run_report *rep, bool hash, const char *fmt, va_list ap)
+{
+    if (rep->message_count >= NT_RUN_MAX_MESSAGES) return;
+    rep->message_is_hash[rep->message_count] = hash;
+    vsnprintf(rep->messages[rep->message_count++], sizeof rep->messages[0], fmt, ap);
+}
+
 static void message(nt_run_report *rep, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
@@ -34,14 +41,37 @@ static void message(nt_run_report *rep, const char *fmt, ...)
 
 static void message(nt_run_report *rep, const char *fmt, ...)
 {
-    if (rep->message_count >= NT_RUN_MAX_MESSAGES) return;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(rep->messages[rep->message_count++], sizeof rep->messages[0], fmt, ap);
+    vmessage(rep, false, fmt, ap);
     va_end(ap);
 }
 
-static void fail(nt_run_report *rep) { rep->failure_count++; }
+static void hash_message(nt_run_report *rep, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+static void hash_message(nt_run_report *rep, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vmessage(rep, true, fmt, ap);
+    va_end(ap);
+}
+
+static void fail(nt_run_report *rep)
+{
+    rep->failure_count++;
+    rep->fact_failures++;
+}
+
+static void hash_fail(nt_run_report *rep)
+{
+    rep->failure_count++;
+    rep->hash_failures++;
+}
 
 /* The fact as written in the replay, for messages. */
 static void fact_text(const nt_replay_fact *f, char *buf, size_t cap)
@@ -272,23 +302,23 @@ static void check_hashes(runner *R)
             continue;
         }
         if (first_bad < 0) first_bad = h->tick;
-        fail(rep);
-        message(rep, "line %d: hash at tick %d: expected 0x%016llx, got 0x%016llx", h->line, h->tick,
+        hash_fail(rep);
+        hash_message(rep, "line %d: hash at tick %d: expected 0x%016llx, got 0x%016llx", h->line, h->tick,
                 (unsigned long long)h->hash, (unsigned long long)rep->hashes[h->tick]);
     }
     if (first_trace > 0) {
         rep->first_divergence = first_trace;
-        if (first_bad < 0) fail(rep); /* the trace alone disagrees */
-        message(rep, "first tick that diverges: %d (trace: expected %08lx, got %08lx)", first_trace,
+        if (first_bad < 0) hash_fail(rep); /* the trace alone disagrees */
+        hash_message(rep, "first tick that diverges: %d (trace: expected %08lx, got %08lx)", first_trace,
                 (unsigned long)rp->trace[first_trace - 1], (unsigned long)nt_trace_fold(rep->hashes[first_trace]));
     } else if (first_bad >= 0) {
         if (rp->trace_count >= first_bad) {
             /* The trace matches up to the checkpoint: only the 64-bit value differs. */
             rep->first_divergence = first_bad;
-            message(rep, "first tick that diverges: %d", first_bad);
+            hash_message(rep, "first tick that diverges: %d", first_bad);
         } else {
             rep->first_divergence = first_bad;
-            message(rep, "diverges after tick %d and by tick %d; no trace covers it (record one with --record-hashes)",
+            hash_message(rep, "diverges after tick %d and by tick %d; no trace covers it (record one with --record-hashes)",
                     last_good < 0 ? rp->trace_count : (last_good > rp->trace_count ? last_good : rp->trace_count),
                     first_bad);
         }
