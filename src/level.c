@@ -814,14 +814,13 @@ static nt_status parse_path(parser *P)
         return nt__fail_col(t, t->f[3].col, "expected 'speed', got '%s'", nt__quote(q, t->f[3].s, t->f[3].n));
     if ((s = positive_at(P, 4, "path speed", &p.speed)) != NT_OK) return s;
     if (p.mode == NT_PATH_ORBIT) {
-        if ((s = nt__expect_fields(t, 11, "path NAME orbit speed S center X Y radius R")) != NT_OK) return s;
+        if ((s = nt__expect_fields(t, 10, "path NAME orbit speed S center X Y radius R")) != NT_OK) return s;
         if (!nt__field_is(&t->f[5], "center"))
             return nt__fail_col(t, t->f[5].col, "expected 'center', got '%s'", nt__quote(q, t->f[5].s, t->f[5].n));
         if ((s = vec_at(P, 6, "center x", "center y", &p.center)) != NT_OK) return s;
         if (!nt__field_is(&t->f[8], "radius"))
             return nt__fail_col(t, t->f[8].col, "expected 'radius', got '%s'", nt__quote(q, t->f[8].s, t->f[8].n));
         if ((s = positive_at(P, 9, "orbit radius", &p.radius)) != NT_OK) return s;
-        if (t->nf > 10) return nt__fail_col(t, t->f[10].col, "unexpected field after the radius");
     } else {
         int i = 5;
         if (nt__field_is(&t->f[5], "wait")) {

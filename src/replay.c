@@ -28,7 +28,8 @@ void nt_replay_destroy(nt_replay *rp)
     nt__free(rp->inputs);
     nt__free(rp->facts);
     nt__free(rp->hashes);
-    nt__free(rp->trace);
+    nt__free(rp->trace[0]);
+    nt__free(rp->trace[1]);
     nt__free(rp);
 }
 
@@ -46,7 +47,8 @@ uint32_t nt_replay_keys_at(const nt_replay *rp, int tick)
 typedef struct rparser {
     nt__text t;
     nt_replay *rp;
-    int input_cap, fact_cap, hash_cap, trace_cap;
+    int input_cap, fact_cap, hash_cap, trace_cap[2];
+    int last_tick[2]; /* last hash tick per build, -1 */
     long long input_total;
     int line_of[6]; /* name, level, seed, dt, ticks, friction-model */
 } rparser;
@@ -177,22 +179,42 @@ static nt_status parse_expect(rparser *P)
     return NT_OK;
 }
 
+/* `float` or `double` at field i; -1 after the error. */
+static int scalar_at(nt__text *t, int i)
+{
+    char q[NT__QUOTE_MAX];
+    if (nt__field_is(&t->f[i], "float")) return 0;
+    if (nt__field_is(&t->f[i], "double")) return 1;
+    nt__fail_col(t, t->f[i].col, "expected the scalar build 'float' or 'double', got '%s'", nt__quote(q, t->f[i].s, t->f[i].n));
+    return -1;
+}
+
 static nt_status parse_hash(rparser *P)
 {
     nt__text *t = &P->t;
     nt_replay *rp = P->rp;
-    nt_status s = nt__expect_fields(t, 3, "hash TICK 0xHHHHHHHHHHHHHHHH");
+    nt_status s = nt__expect_fields(t, 4, "hash float|double TICK 0xHHHHHHHHHHHHHHHH");
     if (s != NT_OK) return s;
     nt_replay_hash h;
     h.line = t->line;
-    if ((s = tick_at(P, 1, "hash tick", &h.tick)) != NT_OK) return s;
-    if (rp->hash_count > 0 && h.tick <= rp->hashes[rp->hash_count - 1].tick)
-        return nt__fail_col(t, t->f[1].col, "hash ticks must increase (tick %d after tick %d)", h.tick,
-                            rp->hashes[rp->hash_count - 1].tick);
-    if ((s = nt__field_hex(t, &t->f[2], "hash", 16, &h.hash)) != NT_OK) return s;
-    if (t->f[2].n != 18) return nt__fail_col(t, t->f[2].col, "hash must be written 0x and 16 hex digits");
+    int b = scalar_at(t, 1);
+    if (b < 0) return NT_ERR_PARSE;
+    h.is_double = b == 1;
+    if ((s = tick_at(P, 2, "hash tick", &h.tick)) != NT_OK) return s;
+    if (h.tick <= P->last_tick[b])
+        return nt__fail_col(t, t->f[2].col, "%s hash ticks must increase (tick %d after tick %d)", b ? "double" : "float",
+                            h.tick, P->last_tick[b]);
+    if ((s = nt__field_hex(t, &t->f[3], "hash", 16, &h.hash)) != NT_OK) return s;
+    if (t->f[3].n != 18) return nt__fail_col(t, t->f[3].col, "hash must be written 0x and 16 hex digits");
     if (!grow_arr((void **)&rp->hashes, rp->hash_count, &P->hash_cap, sizeof h)) return NT_ERR_OUT_OF_MEMORY;
-    rp->hashes[rp->hash_count++] = h;
+    /* Keep float hashes before double ones (the writer's order). */
+    int at = rp->hash_count;
+    if (!h.is_double)
+        while (at > 0 && rp->hashes[at - 1].is_double) at--;
+    memmove(&rp->hashes[at + 1], &rp->hashes[at], (size_t)(rp->hash_count - at) * sizeof h);
+    rp->hashes[at] = h;
+    rp->hash_count++;
+    P->last_tick[b] = h.tick;
     return NT_OK;
 }
 
@@ -200,21 +222,25 @@ static nt_status parse_trace(rparser *P)
 {
     nt__text *t = &P->t;
     nt_replay *rp = P->rp;
-    if (t->nf < 3) return nt__fail_col(t, nt__text_eol_col(t), "missing fields: expected 'trace FIRST_TICK HHHHHHHH ...'");
+    if (t->nf < 4) return nt__fail_col(t, nt__text_eol_col(t), "missing fields: expected 'trace float|double FIRST_TICK HHHHHHHH ...'");
+    int b = scalar_at(t, 1);
+    if (b < 0) return NT_ERR_PARSE;
     long long first;
-    nt_status s = nt__field_int(&P->t, &t->f[1], "trace tick", 1, rp->ticks, &first);
+    nt_status s = nt__field_int(&P->t, &t->f[2], "trace tick", 1, rp->ticks, &first);
     if (s != NT_OK) return s;
-    if (first != rp->trace_count + 1)
-        return nt__fail_col(t, t->f[1].col, "trace lines must follow on: expected tick %d, got %lld", rp->trace_count + 1, first);
-    if (rp->trace_count + (t->nf - 2) > rp->ticks)
-        return nt__fail_col(t, t->f[2 + (rp->ticks - rp->trace_count)].col, "the trace is longer than the replay's %d ticks",
+    if (first != rp->trace_count[b] + 1)
+        return nt__fail_col(t, t->f[2].col, "%s trace lines must follow on: expected tick %d, got %lld", b ? "double" : "float",
+                            rp->trace_count[b] + 1, first);
+    if (rp->trace_count[b] + (t->nf - 3) > rp->ticks)
+        return nt__fail_col(t, t->f[3 + (rp->ticks - rp->trace_count[b])].col, "the trace is longer than the replay's %d ticks",
                             rp->ticks);
-    for (int i = 2; i < t->nf; i++) {
+    for (int i = 3; i < t->nf; i++) {
         uint64_t v;
         if ((s = nt__field_hex(t, &t->f[i], "trace value", 8, &v)) != NT_OK) return s;
         if (t->f[i].n != 8) return nt__fail_col(t, t->f[i].col, "trace values are 8 hex digits without 0x");
-        if (!grow_arr((void **)&rp->trace, rp->trace_count, &P->trace_cap, sizeof *rp->trace)) return NT_ERR_OUT_OF_MEMORY;
-        rp->trace[rp->trace_count++] = (uint32_t)v;
+        if (!grow_arr((void **)&rp->trace[b], rp->trace_count[b], &P->trace_cap[b], sizeof *rp->trace[b]))
+            return NT_ERR_OUT_OF_MEMORY;
+        rp->trace[b][rp->trace_count[b]++] = (uint32_t)v;
     }
     return NT_OK;
 }
@@ -331,6 +357,7 @@ nt_status nt_replay_parse(const char *name, const char *text, size_t length, nt_
         nt__text_init(&P->t, name, text, length, err);
         if (nt_replay_create(1, &rp) == NT_OK) {
             P->rp = rp;
+            P->last_tick[0] = P->last_tick[1] = -1;
             s = parse_rlines(P);
         }
     }
@@ -374,30 +401,46 @@ nt_status nt_replay_set_inputs(nt_replay *rp, const char *name, const char *text
     return NT_OK;
 }
 
-nt_status nt_replay_set_hashes(nt_replay *rp, const nt_replay_hash *hashes, int hash_count, const uint32_t *trace,
-                               int trace_count)
+nt_status nt_replay_set_hashes(nt_replay *rp, int is_double, const nt_replay_hash *hashes, int hash_count,
+                               const uint32_t *trace, int trace_count)
 {
-    if (!rp || hash_count < 0 || trace_count < 0 || (hash_count && !hashes) || (trace_count && !trace) ||
-        trace_count > rp->ticks)
+    if (!rp || (is_double != 0 && is_double != 1) || hash_count < 0 || trace_count < 0 || (hash_count && !hashes) ||
+        (trace_count && !trace) || trace_count > rp->ticks)
         return NT_ERR_INVALID_ARGUMENT;
     for (int i = 0; i < hash_count; i++)
         if (hashes[i].tick < 0 || hashes[i].tick > rp->ticks || (i > 0 && hashes[i].tick <= hashes[i - 1].tick))
             return NT_ERR_INVALID_ARGUMENT;
-    nt_replay_hash *h = hash_count ? (nt_replay_hash *)nt__alloc((size_t)hash_count * sizeof *h) : NULL;
+    int keep = 0;
+    for (int i = 0; i < rp->hash_count; i++) keep += rp->hashes[i].is_double != (is_double == 1);
+    int total = keep + hash_count;
+    nt_replay_hash *h = total ? (nt_replay_hash *)nt__alloc((size_t)total * sizeof *h) : NULL;
     uint32_t *tr = trace_count ? (uint32_t *)nt__alloc((size_t)trace_count * sizeof *tr) : NULL;
-    if ((hash_count && !h) || (trace_count && !tr)) {
+    if ((total && !h) || (trace_count && !tr)) {
         nt__free(h);
         nt__free(tr);
         return NT_ERR_OUT_OF_MEMORY;
     }
-    if (hash_count) memcpy(h, hashes, (size_t)hash_count * sizeof *h);
+    /* Float hashes first, then double ones. */
+    int n = 0;
+    for (int b = 0; b < 2; b++) {
+        if (b == is_double) {
+            for (int i = 0; i < hash_count; i++) {
+                h[n] = hashes[i];
+                h[n].is_double = b == 1;
+                h[n++].line = 0;
+            }
+        } else {
+            for (int i = 0; i < rp->hash_count; i++)
+                if (rp->hashes[i].is_double == (b == 1)) h[n++] = rp->hashes[i];
+        }
+    }
     if (trace_count) memcpy(tr, trace, (size_t)trace_count * sizeof *tr);
     nt__free(rp->hashes);
-    nt__free(rp->trace);
+    nt__free(rp->trace[is_double]);
     rp->hashes = h;
-    rp->hash_count = hash_count;
-    rp->trace = tr;
-    rp->trace_count = trace_count;
+    rp->hash_count = total;
+    rp->trace[is_double] = tr;
+    rp->trace_count[is_double] = trace_count;
     return NT_OK;
 }
 
@@ -461,12 +504,17 @@ size_t nt_replay_write(const nt_replay *rp, char *buf, size_t cap)
         if (f->when == NT_WHEN_ALWAYS) nt__sink_puts(&o, " always\n");
         else nt__sink_printf(&o, " %s %d\n", f->when == NT_WHEN_AT ? "at" : "by", f->tick);
     }
-    for (int i = 0; i < rp->hash_count; i++)
-        nt__sink_printf(&o, "hash %d 0x%016llx\n", rp->hashes[i].tick, (unsigned long long)rp->hashes[i].hash);
-    for (int i = 0; i < rp->trace_count; i++) {
-        if (i % 8 == 0) nt__sink_printf(&o, "trace %d", i + 1);
-        nt__sink_printf(&o, " %08lx", (unsigned long)rp->trace[i]);
-        if (i % 8 == 7 || i == rp->trace_count - 1) nt__sink_puts(&o, "\n");
+    for (int b = 0; b < 2; b++) {
+        const char *scalar = b ? "double" : "float";
+        for (int i = 0; i < rp->hash_count; i++)
+            if (rp->hashes[i].is_double == (b == 1))
+                nt__sink_printf(&o, "hash %s %d 0x%016llx\n", scalar, rp->hashes[i].tick,
+                                (unsigned long long)rp->hashes[i].hash);
+        for (int i = 0; i < rp->trace_count[b]; i++) {
+            if (i % 8 == 0) nt__sink_printf(&o, "trace %s %d", scalar, i + 1);
+            nt__sink_printf(&o, " %08lx", (unsigned long)rp->trace[b][i]);
+            if (i % 8 == 7 || i == rp->trace_count[b] - 1) nt__sink_puts(&o, "\n");
+        }
     }
     return nt__sink_finish(&o);
 }

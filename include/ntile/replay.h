@@ -78,9 +78,12 @@ typedef struct nt_replay_fact {
     int line;                         ///< source line (for messages), 0 if built by hand
 } nt_replay_fact;
 
-/// The state hash expected after tick `tick` (0 = before the first step).
+/// The state hash expected after tick `tick` (0 = before the first step) in one
+/// scalar build: float and double builds compute different bits, so a replay keeps
+/// a set of hashes (and a trace) for each, and a build checks its own.
 typedef struct nt_replay_hash {
     int tick;
+    bool is_double; ///< written `hash double TICK ...`, else `hash float TICK ...`
     uint64_t hash;
     int line;
 } nt_replay_hash;
@@ -95,11 +98,12 @@ typedef struct nt_replay {
     int ticks;                          ///< ticks to run, 1..NT_REPLAY_MAX_TICKS
     bool has_friction_model;
     nt_friction_model friction_model;   ///< overrides the level's when has_friction_model
-    int input_count, fact_count, hash_count, trace_count;
+    int input_count, fact_count, hash_count;
     nt_replay_input *inputs;            ///< cover at most `ticks` ticks; later ticks have no keys
     nt_replay_fact *facts;
-    nt_replay_hash *hashes;             ///< strictly increasing ticks
-    uint32_t *trace;                    ///< trace[k] = 32-bit hash after tick k + 1 (trace_count <= ticks)
+    nt_replay_hash *hashes;             ///< float ones first, then double ones; ticks increase within each
+    int trace_count[2];                 ///< [0] float build, [1] double build; at most `ticks`
+    uint32_t *trace[2];                 ///< trace[b][k] = 32-bit hash after tick k + 1 in build b
 } nt_replay;
 
 /// An empty replay of `ticks` ticks at dt 1/40 with no level, inputs or expectations.
@@ -118,9 +122,10 @@ size_t nt_replay_write(const nt_replay *replay, char *buf, size_t cap);
 /// key letters, '.' for none), as on an `input` line. An empty string means no keys.
 nt_status nt_replay_set_inputs(nt_replay *replay, const char *name, const char *text, size_t length, nt_text_error *error);
 
-/// Replace the expected hashes and the trace (copies; trace may be NULL with count 0).
-nt_status nt_replay_set_hashes(nt_replay *replay, const nt_replay_hash *hashes, int hash_count, const uint32_t *trace,
-                               int trace_count);
+/// Replace the expected hashes and the trace of one scalar build (0 float, 1 double)
+/// with copies; the other build's are kept. trace may be NULL with count 0.
+nt_status nt_replay_set_hashes(nt_replay *replay, int is_double, const nt_replay_hash *hashes, int hash_count,
+                               const uint32_t *trace, int trace_count);
 
 /// Keys of tick `tick` (1-based: the keys held during the tick-th step).
 uint32_t nt_replay_keys_at(const nt_replay *replay, int tick);

@@ -283,13 +283,18 @@ static nt_status make_solid_map(const nt_level *lv, nt_map **out)
     return s;
 }
 
+/* Compare with the hashes and the trace recorded for this scalar build (float and
+ * double builds compute different bits; each checks its own). */
 static void check_hashes(runner *R)
 {
     const nt_replay *rp = R->rp;
     nt_run_report *rep = R->rep;
+    const int b = NT_REAL_IS_DOUBLE;
+    const uint32_t *trace = rp->trace[b];
+    int trace_count = rp->trace_count[b];
     int first_trace = -1;
-    for (int t = 1; t <= rp->trace_count; t++) {
-        if (nt_trace_fold(rep->hashes[t]) != rp->trace[t - 1]) {
+    for (int t = 1; t <= trace_count && t <= rep->ticks; t++) {
+        if (nt_trace_fold(rep->hashes[t]) != trace[t - 1]) {
             first_trace = t;
             break;
         }
@@ -297,30 +302,30 @@ static void check_hashes(runner *R)
     int last_good = -1, first_bad = -1;
     for (int i = 0; i < rp->hash_count; i++) {
         const nt_replay_hash *h = &rp->hashes[i];
+        if (h->is_double != (b == 1) || h->tick > rep->ticks) continue;
         if (rep->hashes[h->tick] == h->hash) {
             if (first_bad < 0) last_good = h->tick;
             continue;
         }
         if (first_bad < 0) first_bad = h->tick;
         hash_fail(rep);
-        hash_message(rep, "line %d: hash at tick %d: expected 0x%016llx, got 0x%016llx", h->line, h->tick,
-                (unsigned long long)h->hash, (unsigned long long)rep->hashes[h->tick]);
+        hash_message(rep, "line %d: %s hash at tick %d: expected 0x%016llx, got 0x%016llx", h->line, b ? "double" : "float",
+                     h->tick, (unsigned long long)h->hash, (unsigned long long)rep->hashes[h->tick]);
     }
     if (first_trace > 0) {
         rep->first_divergence = first_trace;
         if (first_bad < 0) hash_fail(rep); /* the trace alone disagrees */
         hash_message(rep, "first tick that diverges: %d (trace: expected %08lx, got %08lx)", first_trace,
-                (unsigned long)rp->trace[first_trace - 1], (unsigned long)nt_trace_fold(rep->hashes[first_trace]));
+                     (unsigned long)trace[first_trace - 1], (unsigned long)nt_trace_fold(rep->hashes[first_trace]));
     } else if (first_bad >= 0) {
-        if (rp->trace_count >= first_bad) {
+        rep->first_divergence = first_bad;
+        if (trace_count >= first_bad) {
             /* The trace matches up to the checkpoint: only the 64-bit value differs. */
-            rep->first_divergence = first_bad;
             hash_message(rep, "first tick that diverges: %d", first_bad);
         } else {
-            rep->first_divergence = first_bad;
+            int lo = last_good > trace_count ? last_good : trace_count;
             hash_message(rep, "diverges after tick %d and by tick %d; no trace covers it (record one with --record-hashes)",
-                    last_good < 0 ? rp->trace_count : (last_good > rp->trace_count ? last_good : rp->trace_count),
-                    first_bad);
+                         lo, first_bad);
         }
     }
 }

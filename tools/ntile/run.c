@@ -141,7 +141,9 @@ static nt_status load_level(const char *path, nt_level **out, char *why, size_t 
 
 /* ---------------------------------------------------------------- recording hashes */
 
-static int is_hash_line(const char *s, size_t n)
+/* What a replay line is, for rewriting: 0 other, 1 our marker comment, 2 a float
+ * hash or trace line, 3 a double one. */
+static int hash_line_kind(const char *s, size_t n)
 {
     static const char marker[] = "# state hashes:";
     size_t i = 0;
@@ -149,9 +151,13 @@ static int is_hash_line(const char *s, size_t n)
     s += i;
     n -= i;
     if (n >= sizeof marker - 1 && memcmp(s, marker, sizeof marker - 1) == 0) return 1;
-    if (n >= 5 && (memcmp(s, "hash", 4) == 0) && (s[4] == ' ' || s[4] == '\t')) return 1;
-    if (n >= 6 && (memcmp(s, "trace", 5) == 0) && (s[5] == ' ' || s[5] == '\t')) return 1;
-    return 0;
+    size_t w = 0;
+    if (n >= 5 && memcmp(s, "hash", 4) == 0 && (s[4] == ' ' || s[4] == '\t')) w = 4;
+    else if (n >= 6 && memcmp(s, "trace", 5) == 0 && (s[5] == ' ' || s[5] == '\t')) w = 5;
+    else return 0;
+    while (w < n && (s[w] == ' ' || s[w] == '\t')) w++;
+    if (n - w >= 6 && memcmp(s + w, "double", 6) == 0) return 3;
+    return 2; /* float, or malformed (the parser rejected those already) */
 }
 
 typedef struct strbuf {
@@ -195,19 +201,24 @@ static void sb_printf(strbuf *b, const char *fmt, ...)
     if (n > 0) sb_put(b, tmp, (size_t)n < sizeof tmp ? (size_t)n : sizeof tmp - 1);
 }
 
-/* Rewrite the replay text with new hash lines (at the ticks the file had, or the last
- * tick) and a trace of every tick; print what changed. Returns 0 on a write error. */
+/* Rewrite the replay text: every line but the hash block is kept in place; the
+ * block at the end holds this build's new hashes (at the ticks it had, else the
+ * other build's ticks, else the last tick) and a trace of every tick, and the
+ * other build's lines unchanged. Prints what changed. Returns 0 on a write error. */
 static int record(const char *path, const char *text, size_t len, const nt_replay *rp, const nt_run_report *rep)
 {
-    strbuf b = {0};
-    /* Keep every line that is not a hash, a trace or our marker comment. */
+    const int me = NT_REAL_IS_DOUBLE;
+    const char *scalar = me ? "double" : "float";
+    strbuf b = {0}, other = {0};
     size_t i = 0;
     while (i < len) {
         const char *nl = memchr(text + i, '\n', len - i);
         size_t n = nl ? (size_t)(nl - (text + i)) : len - i;
-        if (!is_hash_line(text + i, n)) {
-            sb_put(&b, text + i, n);
-            sb_put(&b, "\n", 1);
+        int kind = hash_line_kind(text + i, n);
+        strbuf *dst = kind == 0 ? &b : kind == 3 - me ? &other : NULL;
+        if (dst) {
+            sb_put(dst, text + i, n);
+            sb_put(dst, "\n", 1);
         }
         i += n + (nl ? 1 : 0);
     }
@@ -215,42 +226,65 @@ static int record(const char *path, const char *text, size_t len, const nt_repla
     static const char marker[] =
         "\n# state hashes: written by `ntile run --record-hashes`; re-record after an intended physics change\n";
     sb_put(&b, marker, sizeof marker - 1);
-    int ticks = rep->ticks;
-    int nh = rp->hash_count > 0 ? rp->hash_count : 1;
-    for (int k = 0; k < nh; k++) {
-        int t = rp->hash_count > 0 ? rp->hashes[k].tick : ticks;
-        uint64_t h = rep->hashes[t];
-        sb_printf(&b, "hash %d 0x%016llx\n", t, (unsigned long long)h);
-        if (rp->hash_count == 0) printf("    hash at tick %d: added 0x%016llx\n", t, (unsigned long long)h);
-        else if (rp->hashes[k].hash != h)
-            printf("    hash at tick %d: 0x%016llx -> 0x%016llx\n", t, (unsigned long long)rp->hashes[k].hash,
-                   (unsigned long long)h);
-        else printf("    hash at tick %d: unchanged\n", t);
+    if (me == 1 && other.n) sb_put(&b, other.p, other.n);
+    /* The ticks to hash: this build's, else the other build's, else the last tick. */
+    int mine = 0, theirs = 0;
+    for (int k = 0; k < rp->hash_count; k++) {
+        if (rp->hashes[k].is_double == (me == 1)) mine++;
+        else theirs++;
     }
+    int ticks = rep->ticks;
+    int want = rp->hash_count > 0 ? rp->hash_count : 1;
+    int written = 0;
+    for (int k = 0; k < want; k++) {
+        int t = ticks;
+        const nt_replay_hash *old = NULL;
+        if (rp->hash_count > 0) {
+            const nt_replay_hash *h = &rp->hashes[k];
+            if (mine > 0 ? h->is_double != (me == 1) : h->is_double == (me == 1)) continue;
+            t = h->tick;
+            if (mine > 0) old = h;
+        }
+        if (t > ticks) continue;
+        uint64_t h = rep->hashes[t];
+        sb_printf(&b, "hash %s %d 0x%016llx\n", scalar, t, (unsigned long long)h);
+        written++;
+        if (!old) printf("    %s hash at tick %d: added 0x%016llx\n", scalar, t, (unsigned long long)h);
+        else if (old->hash != h)
+            printf("    %s hash at tick %d: 0x%016llx -> 0x%016llx\n", scalar, t, (unsigned long long)old->hash,
+                   (unsigned long long)h);
+        else printf("    %s hash at tick %d: unchanged\n", scalar, t);
+    }
+    (void)theirs;
+    (void)written;
+    const uint32_t *tr = rp->trace[me];
+    int trn = rp->trace_count[me];
     int changed = 0, first = -1;
     for (int t = 1; t <= ticks; t++) {
         uint32_t v = nt_trace_fold(rep->hashes[t]);
-        if ((t - 1) % 8 == 0) sb_printf(&b, "trace %d", t);
+        if ((t - 1) % 8 == 0) sb_printf(&b, "trace %s %d", scalar, t);
         sb_printf(&b, " %08lx", (unsigned long)v);
         if ((t - 1) % 8 == 7 || t == ticks) sb_put(&b, "\n", 1);
-        if (t > rp->trace_count || rp->trace[t - 1] != v) {
+        if (t > trn || tr[t - 1] != v) {
             changed++;
             if (first < 0) first = t;
         }
     }
-    if (rp->trace_count == 0) printf("    trace: added (%d ticks)\n", ticks);
-    else if (changed == 0 && rp->trace_count == ticks) printf("    trace: unchanged (%d ticks)\n", ticks);
-    else printf("    trace: %d of %d ticks changed, first at tick %d\n", changed, ticks, first);
-    if (b.oom) {
-        fprintf(stderr, "ntile run: out of memory recording '%s'\n", path);
-        free(b.p);
-        return 0;
-    }
-    char why[512];
+    if (trn == 0) printf("    %s trace: added (%d ticks)\n", scalar, ticks);
+    else if (changed == 0 && trn == ticks) printf("    %s trace: unchanged (%d ticks)\n", scalar, ticks);
+    else printf("    %s trace: %d of %d ticks changed, first at tick %d\n", scalar, changed, ticks, first);
+    if (me == 0 && other.n) sb_put(&b, other.p, other.n);
     int ok = 1;
-    if (b.n != len || memcmp(b.p, text, len) != 0) ok = cli_write_file(path, b.p, b.n, why, sizeof why);
-    if (!ok) fprintf(stderr, "ntile run: %s\n", why);
+    if (b.oom || other.oom) {
+        fprintf(stderr, "ntile run: out of memory recording '%s'\n", path);
+        ok = 0;
+    } else if (b.n != len || memcmp(b.p, text, len) != 0) {
+        char why[512];
+        ok = cli_write_file(path, b.p, b.n, why, sizeof why);
+        if (!ok) fprintf(stderr, "ntile run: %s\n", why);
+    }
     free(b.p);
+    free(other.p);
     return ok;
 }
 
