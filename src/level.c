@@ -687,7 +687,10 @@ static nt_status parse_grid(parser *P, int grid)
         }
         size_t i = 0;
         while (i < t->ll && (t->ls[i] == ' ' || t->ls[i] == '\t' || t->ls[i] == '\r')) i++;
-        if (i == t->ll || t->ls[i] == '#') continue; /* blank or comment line */
+        /* Blank and comment lines may sit between rows; a comment there is '#' then a
+         * blank (or nothing), so that a row typed without its '|' is not taken for one. */
+        if (i == t->ll || (t->ls[i] == '#' && (i + 1 == t->ll || t->ls[i + 1] == ' ' || t->ls[i + 1] == '\t')))
+            continue;
         if (t->ls[i] != '|')
             return nt__fail_col(t, (int)i + 1, "expected row %d of %d of the '%s' block ('|', %d codes, '|'), got '%s'",
                                 row + 1, H, grid_names[grid], W, nt__quote(q, t->ls + i, t->ll - i));
@@ -909,9 +912,10 @@ static nt_status parse_body(parser *P)
     } else {
         return nt__fail_col(t, t->f[3].col, "unknown shape '%s' (expected box or circle)", nt__quote(q, t->f[3].s, t->f[3].n));
     }
-    if ((s = need(P, i + 2, form)) != NT_OK) return s;
+    if ((s = need(P, i, form)) != NT_OK) return s;
     if (!nt__field_is(&t->f[i], "at"))
         return nt__fail_col(t, t->f[i].col, "expected 'at X Y', got '%s'", nt__quote(q, t->f[i].s, t->f[i].n));
+    if ((s = need(P, i + 2, form)) != NT_OK) return s;
     if ((s = vec_at(P, i + 1, "x", "y", &b.position)) != NT_OK) return s;
     i += 3;
     /* Options, each at most once. */
@@ -921,7 +925,7 @@ static nt_status parse_body(parser *P)
     enum { O_VEL, O_MASS, O_MATERIAL, O_DRAG, O_GSCALE, O_CATEGORY, O_MASK, O_SENSOR, O_NOSLEEP, O_ASLEEP, O_PATH, O_PHASE,
            O_SCORE, O_DEADLY, O_TEMPLATE, O_REPEAT, O_COUNT };
     int seen[O_COUNT] = {0};
-    int phase_col = 0, score_col = 0, path_col = 0, material_col = 0, repeat_col = 0;
+    int material_col = 0, repeat_col = 0;
     while (i < t->nf) {
         int o = -1;
         for (int k = 0; k < O_COUNT; k++)
@@ -953,7 +957,6 @@ static nt_status parse_body(parser *P)
         case O_ASLEEP: b.awake = false; break;
         case O_PATH: {
             char name[NT_LEVEL_NAME_MAX];
-            path_col = t->f[a].col;
             s = nt__field_name(t, &t->f[a], "path name", name);
             if (s != NT_OK) break;
             b.path = nt_level_find_path(lv, name);
@@ -962,14 +965,12 @@ static nt_status parse_body(parser *P)
             break;
         }
         case O_PHASE:
-            phase_col = t->f[a].col;
             s = real_at(P, a, "phase", &b.phase);
             if (s == NT_OK && (b.phase < 0 || b.phase >= 1))
                 s = nt__fail_col(t, t->f[a].col, "phase '%s' is outside [0, 1)", nt__quote(q, t->f[a].s, t->f[a].n));
             break;
         case O_SCORE: {
             long long v;
-            score_col = t->f[a].col;
             s = nt__field_int(t, &t->f[a], "score", 1, 1000000, &v);
             b.score = (int)v;
             break;
@@ -991,10 +992,10 @@ static nt_status parse_body(parser *P)
         i = a + nargs[o];
     }
     if (b.path >= 0 && b.type != NT_BODY_KINEMATIC)
-        return nt__fail_col(t, path_col, "only kinematic bodies follow paths (this body is %s)",
+        return nt__fail_col(t, seen[O_PATH], "only kinematic bodies follow paths (this body is %s)",
                             b.type == NT_BODY_STATIC ? "static" : "dynamic");
-    if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, phase_col, "'phase' needs 'path'");
-    if (b.score > 0 && !b.sensor) return nt__fail_col(t, score_col, "a body with a score must be a sensor (add 'sensor')");
+    if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, seen[O_PHASE], "'phase' needs 'path'");
+    if (b.score > 0 && !b.sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
     if (b.is_template && (b.repeat_x > 1 || b.repeat_y > 1)) return nt__fail_col(t, repeat_col, "a template cannot repeat");
     long long add = instances_of(&b);
     if (P->instances + add > NT_LEVEL_MAX_BODIES)
