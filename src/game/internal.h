@@ -22,7 +22,8 @@ typedef struct player_state {
     int wall_away;       /* +1: the last wall was on the left (jump right); -1: on the right */
     bool on_floor, wall_left, wall_right; /* sensed after the last step */
     nt_vec2 normal;      /* the floor's normal when on_floor */
-    nt_vec2 ground_v;    /* velocity of the body the player stands on, else 0 */
+    nt_body_id ground;   /* the body the player stands on, else null */
+    nt_vec2 ground_v;    /* its velocity after the last step */
     nt_body_tile_contacts tc;
 } player_state;
 

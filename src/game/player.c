@@ -60,13 +60,12 @@ void nt__player_sense(nt_game *g)
         tc->on_floor = tc->wall_left = tc->wall_right = false;
     }
     ps->normal = tc->floor_normal;
-    ps->ground_v = nt_v2(0, 0);
     ps->on_floor = tc->on_floor;
-    nt_body_id under = body_floor(g, id, nt_body_get_position(w, id), g->def.player.radius * g->cell);
-    if (!nt_body_id_is_null(under)) {
+    ps->ground = body_floor(g, id, nt_body_get_position(w, id), g->def.player.radius * g->cell);
+    ps->ground_v = nt_body_id_is_null(ps->ground) ? nt_v2(0, 0) : nt_body_get_velocity(w, ps->ground);
+    if (!nt_body_id_is_null(ps->ground)) {
         if (!ps->on_floor) ps->normal = nt_v2(0, -1);
         ps->on_floor = true;
-        ps->ground_v = nt_body_get_velocity(w, under);
     }
     ps->wall_left = tc->wall_left;
     ps->wall_right = tc->wall_right;
@@ -93,7 +92,12 @@ void nt__player_control(nt_game *g, uint32_t keys, nt_real dt)
     player_state *ps = &g->ps;
     const nt_body_tile_contacts *tc = &ps->tc;
     bool ground = ps->on_floor;
-    nt_vec2 n = ps->normal, ground_v = ps->ground_v;
+    nt_vec2 n = ps->normal;
+    /* The player's speed is taken relative to the carrier's velocity of the last step
+     * and given back relative to its velocity for the coming step (paths set theirs
+     * before the controller runs), so that the rider keeps up without a tick of lag. */
+    nt_vec2 ground_v = nt_body_is_valid(w, ps->ground) ? nt_body_get_velocity(w, ps->ground) : nt_v2(0, 0);
+    nt_vec2 ground_was = ps->ground_v;
 
     /* N's ninja lands softly: the bounce of ordinary tiles is taken back, but tiles
      * bouncier than the threshold (launch pads) keep it. */
@@ -110,7 +114,7 @@ void nt__player_control(nt_game *g, uint32_t keys, nt_real dt)
     if (ground) {
         /* Along the floor, relative to what carries the player. */
         nt_vec2 t = nt_v2(-n.y, n.x);
-        nt_vec2 rel = nt_v2(v.x - ground_v.x, v.y - ground_v.y);
+        nt_vec2 rel = nt_v2(v.x - ground_was.x, v.y - ground_was.y);
         nt_real s = rel.x * t.x + rel.y * t.y;
         nt_real vn = rel.x * n.x + rel.y * n.y;
         nt_real target = (nt_real)dir * pd->run_speed * c;
