@@ -222,6 +222,53 @@ static void test_set_inputs_and_hashes(void **state)
     nt_replay_destroy(rp);
 }
 
+static long g_live, g_budget;
+
+static void *counting_alloc(size_t size, void *user)
+{
+    (void)user;
+    if (g_budget == 0) return NULL;
+    if (g_budget > 0) g_budget--;
+    void *p = malloc(size);
+    if (p) g_live++;
+    return p;
+}
+
+static void counting_free(void *p, void *user)
+{
+    (void)user;
+    g_live--;
+    free(p);
+}
+
+/* Every allocation of a parse fails in turn: reported, and nothing is left allocated. */
+static void test_parse_out_of_memory(void **state)
+{
+    (void)state;
+    static const char text[] = HEAD "input 1R 2L 3J 4A 5. 6R 7L 8J 9A 10. 11R 12L 13J\n"
+                                    "expect complete by 9\nexpect score >= 1 at 9\nhash float 5 0x0000000000000001\n"
+                                    "trace float 1 00000001 00000002\ntrace double 1 00000001\n";
+    int failures = 0;
+    for (long budget = 0;; budget++) {
+        g_live = 0;
+        g_budget = budget;
+        nt_set_allocator(counting_alloc, counting_free, NULL);
+        nt_replay *rp = NULL;
+        nt_text_error e;
+        nt_status s = nt_replay_parse("r.ntr", text, sizeof text - 1, &rp, &e);
+        if (s == NT_OK) nt_replay_destroy(rp);
+        nt_set_allocator(NULL, NULL, NULL);
+        assert_int_equal(g_live, 0);
+        if (s == NT_OK) break;
+        failures++;
+        if (s != NT_ERR_OUT_OF_MEMORY) fprintf(stderr, "budget %ld: %s\n", budget, e.message);
+        assert_int_equal(s, NT_ERR_OUT_OF_MEMORY);
+        assert_null(rp);
+        assert_string_equal(e.message, "r.ntr: out of memory");
+    }
+    assert_true(failures >= 5);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -229,6 +276,7 @@ int main(void)
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_roundtrip),
         cmocka_unit_test(test_set_inputs_and_hashes),
+        cmocka_unit_test(test_parse_out_of_memory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

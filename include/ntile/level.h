@@ -193,9 +193,11 @@ int nt_level_find_path(const nt_level *level, const char *name);
 int nt_level_instance_count(const nt_level *level);
 
 /// Create a world from the level: map, tiles, materials, cell flags, settings, and
-/// every non-template body (repeats expanded row by row) in level order. `ids`
-/// (may be NULL) receives nt_level_instance_count(level) handles. On failure
-/// *out is NULL and nothing is left behind.
+/// every non-template body (repeats expanded row by row) in level order. The world
+/// definition's speeds given for 24-unit cells (restitution and hit thresholds,
+/// sleep speed) are scaled by cell_size / 24. `ids` (may be NULL) receives
+/// nt_level_instance_count(level) handles. On failure *out is NULL and nothing is
+/// left behind.
 nt_status nt_level_create_world(const nt_level *level, nt_world **out, nt_body_id *ids, size_t id_count);
 
 /// The body definition of one body of the level (instance `k` of its repeat grid, row by row).
