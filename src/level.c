@@ -97,22 +97,8 @@ void nt_level_destroy(nt_level *lv)
     nt__free(lv);
 }
 
-/* Grow an array of `size`-byte items so that one more fits. */
-static int grow(void **arr, int count, int *cap, size_t size)
-{
-    if (count < *cap) return 1;
-    int ncap = *cap ? *cap * 2 : 8;
-    void *p = nt__alloc((size_t)ncap * size);
-    if (!p) return 0;
-    if (count > 0) memcpy(p, *arr, (size_t)count * size);
-    nt__free(*arr);
-    *arr = p;
-    *cap = ncap;
-    return 1;
-}
-
 /* Capacities are not stored in nt_level: an array of count items has room for the
- * next power of two (at least 8), which is what grow() gives. */
+ * next power of two (at least 8), which is what nt__grow_array gives. */
 static int cap_of(int count)
 {
     int c = 8;
@@ -301,17 +287,24 @@ static const char *spawner_problem(const nt_level *lv, const nt_level_spawner *s
     return NULL;
 }
 
+/* Append a copy of item to an array of the level (count items, capacity implied). */
+static nt_status append(void **arr, int *count, const void *item, size_t size)
+{
+    int cap = cap_of(*count);
+    if (!nt__grow_array(arr, *count, &cap, size)) return NT_ERR_OUT_OF_MEMORY;
+    memcpy((char *)*arr + (size_t)*count * size, item, size);
+    ++*count;
+    return NT_OK;
+}
+
 nt_status nt_level_add_body(nt_level *lv, const nt_level_body *b, int *index)
 {
     if (!lv || !b) return NT_ERR_INVALID_ARGUMENT;
     if (body_problem(lv, b) || name_taken(lv, b->name)) return NT_ERR_INVALID_ARGUMENT;
     if (total_instances(lv) + instances_of(b) > NT_LEVEL_MAX_BODIES) return NT_ERR_LIMIT;
-    int cap = cap_of(lv->body_count);
-    if (!grow((void **)&lv->bodies, lv->body_count, &cap, sizeof *lv->bodies)) return NT_ERR_OUT_OF_MEMORY;
-    lv->bodies[lv->body_count] = *b;
-    if (index) *index = lv->body_count;
-    lv->body_count++;
-    return NT_OK;
+    nt_status s = append((void **)&lv->bodies, &lv->body_count, b, sizeof *b);
+    if (s == NT_OK && index) *index = lv->body_count - 1;
+    return s;
 }
 
 nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r)
@@ -319,10 +312,7 @@ nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r)
     if (!lv || !r) return NT_ERR_INVALID_ARGUMENT;
     if (region_problem(r) || name_taken(lv, r->name)) return NT_ERR_INVALID_ARGUMENT;
     if (lv->region_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    int cap = cap_of(lv->region_count);
-    if (!grow((void **)&lv->regions, lv->region_count, &cap, sizeof *lv->regions)) return NT_ERR_OUT_OF_MEMORY;
-    lv->regions[lv->region_count++] = *r;
-    return NT_OK;
+    return append((void **)&lv->regions, &lv->region_count, r, sizeof *r);
 }
 
 nt_status nt_level_add_path(nt_level *lv, const nt_level_path *p, int *index)
@@ -330,12 +320,9 @@ nt_status nt_level_add_path(nt_level *lv, const nt_level_path *p, int *index)
     if (!lv || !p) return NT_ERR_INVALID_ARGUMENT;
     if (path_problem(p) || name_taken(lv, p->name)) return NT_ERR_INVALID_ARGUMENT;
     if (lv->path_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    int cap = cap_of(lv->path_count);
-    if (!grow((void **)&lv->paths, lv->path_count, &cap, sizeof *lv->paths)) return NT_ERR_OUT_OF_MEMORY;
-    lv->paths[lv->path_count] = *p;
-    if (index) *index = lv->path_count;
-    lv->path_count++;
-    return NT_OK;
+    nt_status s = append((void **)&lv->paths, &lv->path_count, p, sizeof *p);
+    if (s == NT_OK && index) *index = lv->path_count - 1;
+    return s;
 }
 
 nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *s)
@@ -343,10 +330,7 @@ nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *s)
     if (!lv || !s) return NT_ERR_INVALID_ARGUMENT;
     if (spawner_problem(lv, s) || name_taken(lv, s->name)) return NT_ERR_INVALID_ARGUMENT;
     if (lv->spawner_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    int cap = cap_of(lv->spawner_count);
-    if (!grow((void **)&lv->spawners, lv->spawner_count, &cap, sizeof *lv->spawners)) return NT_ERR_OUT_OF_MEMORY;
-    lv->spawners[lv->spawner_count++] = *s;
-    return NT_OK;
+    return append((void **)&lv->spawners, &lv->spawner_count, s, sizeof *s);
 }
 
 nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
@@ -788,7 +772,7 @@ static nt_status parse_region(parser *P)
     } else if (r.kind == NT_REGION_SCORE) {
         return nt__fail_col(t, nt__text_eol_col(t), "a score region needs 'value N'");
     }
-    if (!grow((void **)&lv->regions, lv->region_count, &P->region_cap, sizeof r)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&lv->regions, lv->region_count, &P->region_cap, sizeof r)) return NT_ERR_OUT_OF_MEMORY;
     lv->regions[lv->region_count++] = r;
     return NT_OK;
 }
@@ -846,7 +830,7 @@ static nt_status parse_path(parser *P)
             if ((s = vec_at(P, first + 2 * k, "point x", "point y", &p.points[k])) != NT_OK) return s;
         p.point_count = nc / 2;
     }
-    if (!grow((void **)&lv->paths, lv->path_count, &P->path_cap, sizeof p)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&lv->paths, lv->path_count, &P->path_cap, sizeof p)) return NT_ERR_OUT_OF_MEMORY;
     lv->paths[lv->path_count++] = p;
     return NT_OK;
 }
@@ -1001,7 +985,7 @@ static nt_status parse_body(parser *P)
     if (P->instances + add > NT_LEVEL_MAX_BODIES)
         return nt__fail_col(t, t->f[1].col, "too many bodies: more than %d in the level", NT_LEVEL_MAX_BODIES);
     P->instances += add;
-    if (!grow((void **)&lv->bodies, lv->body_count, &P->body_cap, sizeof b)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&lv->bodies, lv->body_count, &P->body_cap, sizeof b)) return NT_ERR_OUT_OF_MEMORY;
     lv->bodies[lv->body_count++] = b;
     return NT_OK;
 }
@@ -1080,7 +1064,7 @@ static nt_status parse_spawner(parser *P)
     if (!seen[3]) return nt__fail_col(t, nt__text_eol_col(t), "a spawner needs 'limit K'");
     if (seen[2] && !seen[1]) return nt__fail_col(t, seen[2], "'start' needs 'every N'");
     if (sp.trigger == NT_SPAWN_EVERY && !seen[2]) sp.start = 1;
-    if (!grow((void **)&lv->spawners, lv->spawner_count, &P->spawner_cap, sizeof sp)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&lv->spawners, lv->spawner_count, &P->spawner_cap, sizeof sp)) return NT_ERR_OUT_OF_MEMORY;
     lv->spawners[lv->spawner_count++] = sp;
     return NT_OK;
 }
@@ -1096,22 +1080,10 @@ static nt_status parse_lines(parser *P)
 {
     nt__text *t = &P->t;
     char q[NT__QUOTE_MAX];
-    /* The header: the very first line. */
-    int r = nt__text_next_line(t);
-    if (r < 0) return NT_ERR_PARSE;
-    if (r == 0) return nt__fail(t, 1, 1, "empty file: expected 'ntile-level %d' on the first line", NT_LEVEL_VERSION);
-    if (!nt__text_split(t)) return NT_ERR_PARSE;
-    if (t->nf < 1 || !nt__field_is(&t->f[0], "ntile-level"))
-        return nt__fail_col(t, t->nf ? t->f[0].col : 1, "expected 'ntile-level %d' on the first line", NT_LEVEL_VERSION);
-    nt_status s = nt__expect_fields(t, 2, "ntile-level VERSION");
+    nt_status s = nt__read_header(t, "ntile-level", NT_LEVEL_VERSION);
     if (s != NT_OK) return s;
-    long long version;
-    if ((s = nt__field_int(t, &t->f[1], "version", 0, 1000000, &version)) != NT_OK) return s;
-    if (version != NT_LEVEL_VERSION)
-        return nt__fail_col(t, t->f[1].col, "unsupported ntile-level version %lld (this ntile reads version %d)", version,
-                            NT_LEVEL_VERSION);
     for (;;) {
-        r = nt__text_next_line(t);
+        int r = nt__text_next_line(t);
         if (r < 0) return NT_ERR_PARSE;
         if (r == 0) break;
         if (!nt__text_split(t)) return NT_ERR_PARSE;

@@ -53,19 +53,6 @@ typedef struct rparser {
     int line_of[6]; /* name, level, seed, dt, ticks, friction-model */
 } rparser;
 
-static int grow_arr(void **arr, int count, int *cap, size_t size)
-{
-    if (count < *cap) return 1;
-    int ncap = *cap ? *cap * 2 : 16;
-    void *p = nt__alloc((size_t)ncap * size);
-    if (!p) return 0;
-    if (count > 0) memcpy(p, *arr, (size_t)count * size);
-    nt__free(*arr);
-    *arr = p;
-    *cap = ncap;
-    return 1;
-}
-
 /* One input token COUNT KEYS at field f; appended to the replay. */
 static nt_status input_token(nt__text *t, const nt__field *f, nt_replay *rp, int *cap, long long *total, int limit_ticks)
 {
@@ -98,7 +85,7 @@ static nt_status input_token(nt__text *t, const nt__field *f, nt_replay *rp, int
     }
     if (*total + count > limit_ticks)
         return nt__fail_col(t, f->col, "inputs cover %lld ticks, more than the replay's %d", *total + count, limit_ticks);
-    if (!grow_arr((void **)&rp->inputs, rp->input_count, cap, sizeof *rp->inputs)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&rp->inputs, rp->input_count, cap, sizeof *rp->inputs)) return NT_ERR_OUT_OF_MEMORY;
     rp->inputs[rp->input_count].count = (int)count;
     rp->inputs[rp->input_count].keys = keys;
     rp->input_count++;
@@ -174,7 +161,7 @@ static nt_status parse_expect(rparser *P)
         return nt__fail_col(t, t->f[i].col, "expected 'at T', 'by T' or 'always', got '%s'", nt__quote(q, t->f[i].s, t->f[i].n));
     }
     if (i < t->nf) return nt__fail_col(t, t->f[i].col, "unexpected field '%s' after the fact", nt__quote(q, t->f[i].s, t->f[i].n));
-    if (!grow_arr((void **)&rp->facts, rp->fact_count, &P->fact_cap, sizeof f)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&rp->facts, rp->fact_count, &P->fact_cap, sizeof f)) return NT_ERR_OUT_OF_MEMORY;
     rp->facts[rp->fact_count++] = f;
     return NT_OK;
 }
@@ -206,7 +193,7 @@ static nt_status parse_hash(rparser *P)
                             h.tick, P->last_tick[b]);
     if ((s = nt__field_hex(t, &t->f[3], "hash", 16, &h.hash)) != NT_OK) return s;
     if (t->f[3].n != 18) return nt__fail_col(t, t->f[3].col, "hash must be written 0x and 16 hex digits");
-    if (!grow_arr((void **)&rp->hashes, rp->hash_count, &P->hash_cap, sizeof h)) return NT_ERR_OUT_OF_MEMORY;
+    if (!nt__grow_array((void **)&rp->hashes, rp->hash_count, &P->hash_cap, sizeof h)) return NT_ERR_OUT_OF_MEMORY;
     /* Keep float hashes before double ones (the writer's order). */
     int at = rp->hash_count;
     if (!h.is_double)
@@ -238,7 +225,7 @@ static nt_status parse_trace(rparser *P)
         uint64_t v;
         if ((s = nt__field_hex(t, &t->f[i], "trace value", 8, &v)) != NT_OK) return s;
         if (t->f[i].n != 8) return nt__fail_col(t, t->f[i].col, "trace values are 8 hex digits without 0x");
-        if (!grow_arr((void **)&rp->trace[b], rp->trace_count[b], &P->trace_cap[b], sizeof *rp->trace[b]))
+        if (!nt__grow_array((void **)&rp->trace[b], rp->trace_count[b], &P->trace_cap[b], sizeof *rp->trace[b]))
             return NT_ERR_OUT_OF_MEMORY;
         rp->trace[b][rp->trace_count[b]++] = (uint32_t)v;
     }
@@ -253,21 +240,10 @@ static nt_status parse_rlines(rparser *P)
     nt__text *t = &P->t;
     nt_replay *rp = P->rp;
     char q[NT__QUOTE_MAX];
-    int r = nt__text_next_line(t);
-    if (r < 0) return NT_ERR_PARSE;
-    if (r == 0) return nt__fail(t, 1, 1, "empty file: expected 'ntile-replay %d' on the first line", NT_REPLAY_VERSION);
-    if (!nt__text_split(t)) return NT_ERR_PARSE;
-    if (t->nf < 1 || !nt__field_is(&t->f[0], "ntile-replay"))
-        return nt__fail_col(t, t->nf ? t->f[0].col : 1, "expected 'ntile-replay %d' on the first line", NT_REPLAY_VERSION);
-    nt_status s = nt__expect_fields(t, 2, "ntile-replay VERSION");
+    nt_status s = nt__read_header(t, "ntile-replay", NT_REPLAY_VERSION);
     if (s != NT_OK) return s;
-    long long version;
-    if ((s = nt__field_int(t, &t->f[1], "version", 0, 1000000, &version)) != NT_OK) return s;
-    if (version != NT_REPLAY_VERSION)
-        return nt__fail_col(t, t->f[1].col, "unsupported ntile-replay version %lld (this ntile reads version %d)", version,
-                            NT_REPLAY_VERSION);
     for (;;) {
-        r = nt__text_next_line(t);
+        int r = nt__text_next_line(t);
         if (r < 0) return NT_ERR_PARSE;
         if (r == 0) break;
         if (!nt__text_split(t)) return NT_ERR_PARSE;

@@ -361,6 +361,38 @@ nt_status nt__field_string(nt__text *t, const nt__field *f, const char *what, ch
     return NT_OK;
 }
 
+nt_status nt__read_header(nt__text *t, const char *magic, int version)
+{
+    int r = nt__text_next_line(t);
+    if (r < 0) return NT_ERR_PARSE;
+    if (r == 0) return nt__fail(t, 1, 1, "empty file: expected '%s %d' on the first line", magic, version);
+    if (!nt__text_split(t)) return NT_ERR_PARSE;
+    if (t->nf < 1 || !nt__field_is(&t->f[0], magic))
+        return nt__fail_col(t, t->nf ? t->f[0].col : 1, "expected '%s %d' on the first line", magic, version);
+    char form[64];
+    snprintf(form, sizeof form, "%s VERSION", magic);
+    nt_status s = nt__expect_fields(t, 2, form);
+    if (s != NT_OK) return s;
+    long long v;
+    if ((s = nt__field_int(t, &t->f[1], "version", 0, 1000000, &v)) != NT_OK) return s;
+    if (v != version)
+        return nt__fail_col(t, t->f[1].col, "unsupported %s version %lld (this ntile reads version %d)", magic, v, version);
+    return NT_OK;
+}
+
+int nt__grow_array(void **arr, int count, int *cap, size_t size)
+{
+    if (count < *cap) return 1;
+    int ncap = *cap ? *cap * 2 : 8;
+    void *p = nt__alloc((size_t)ncap * size);
+    if (!p) return 0;
+    if (count > 0) memcpy(p, *arr, (size_t)count * size);
+    nt__free(*arr);
+    *arr = p;
+    *cap = ncap;
+    return 1;
+}
+
 nt_status nt__expect_fields(nt__text *t, int n, const char *form)
 {
     if (t->nf == n) return NT_OK;

@@ -88,6 +88,13 @@ nt_status nt__field_name(nt__text *t, const nt__field *f, const char *what, char
 /* A "quoted" string (no '"' or '\\' inside) shorter than cap, or a bare word when bare_ok. */
 nt_status nt__field_string(nt__text *t, const nt__field *f, const char *what, char *out, size_t cap, int bare_ok);
 
+/* Read the first line, which must be exactly "MAGIC VERSION". */
+nt_status nt__read_header(nt__text *t, const char *magic, int version);
+
+/* Make room for one more item in *arr (count used, *cap allocated, doubling from 8).
+ * 0 when out of memory (the array is unchanged). */
+int nt__grow_array(void **arr, int count, int *cap, size_t size);
+
 /* Exactly n fields on the line, or a message naming the expected form. */
 nt_status nt__expect_fields(nt__text *t, int n, const char *form);
 

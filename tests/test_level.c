@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "failalloc.h"
 #include "ntile/ntile.h"
 
 #define R(x) ((nt_real)(x))
@@ -386,25 +387,6 @@ static void test_spawner_errors(void **state)
 
 /* ---------------------------------------------------------------- allocation failures */
 
-static long g_live, g_budget;
-
-static void *counting_alloc(size_t size, void *user)
-{
-    (void)user;
-    if (g_budget == 0) return NULL;
-    if (g_budget > 0) g_budget--;
-    void *p = malloc(size);
-    if (p) g_live++;
-    return p;
-}
-
-static void counting_free(void *p, void *user)
-{
-    (void)user;
-    g_live--;
-    free(p);
-}
-
 static const char rich[] = "ntile-level 1\ntitle \"x\"\nsize 5 3\nmaterial 2 0.1 0.9\n"
                            "tiles\n|#.2.#|\n|#...#|\n|#####|\nmaterials\n|.....|\n|.....|\n|.2.2.|\n"
                            "flags\n|.-...|\n|.....|\n|.....|\nplayer 30 30\n"
@@ -420,26 +402,17 @@ static void test_parse_out_of_memory(void **state)
     (void)state;
     int failures = 0;
     for (long budget = 0;; budget++) {
-        g_live = 0;
-        g_budget = budget;
-        nt_set_allocator(counting_alloc, counting_free, NULL);
+        failalloc_begin(budget);
         nt_level *lv = NULL;
         nt_text_error e;
         nt_status s = nt_level_parse("t.ntl", rich, sizeof rich - 1, &lv, &e);
-        nt_set_allocator(NULL, NULL, NULL);
-        if (s == NT_OK) {
-            assert_non_null(lv);
-            nt_set_allocator(counting_alloc, counting_free, NULL);
-            nt_level_destroy(lv);
-            nt_set_allocator(NULL, NULL, NULL);
-            assert_int_equal(g_live, 0);
-            break;
-        }
+        if (s == NT_OK) nt_level_destroy(lv);
+        assert_int_equal(failalloc_end(), 0);
+        if (s == NT_OK) break;
         failures++;
         assert_int_equal(s, NT_ERR_OUT_OF_MEMORY);
         assert_null(lv);
         assert_string_equal(e.message, "t.ntl: out of memory");
-        assert_int_equal(g_live, 0);
     }
     assert_true(failures >= 8); /* parser, level, cell arrays, names, bodies, ... */
 }

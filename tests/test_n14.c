@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "failalloc.h"
 #include "ntile/ntile.h"
 
 #define COLS 31
@@ -224,25 +225,6 @@ static void test_several_levels(void **state)
     assert_string_equal(e.message, "t.n:5:1: level 6 asked for, but the text holds 3 levels");
 }
 
-static long g_live, g_budget;
-
-static void *counting_alloc(size_t size, void *user)
-{
-    (void)user;
-    if (g_budget == 0) return NULL;
-    if (g_budget > 0) g_budget--;
-    void *p = malloc(size);
-    if (p) g_live++;
-    return p;
-}
-
-static void counting_free(void *p, void *user)
-{
-    (void)user;
-    g_live--;
-    free(p);
-}
-
 static void test_out_of_memory(void **state)
 {
     (void)state;
@@ -251,15 +233,12 @@ static void test_out_of_memory(void **state)
     const char *text = level_string("oom", t, "5^60,516!0^108,540!0^132,540!12^30,546!11^588,492,168,156!1^408,264");
     int failures = 0;
     for (long budget = 0;; budget++) {
-        g_live = 0;
-        g_budget = budget;
-        nt_set_allocator(counting_alloc, counting_free, NULL);
+        failalloc_begin(budget);
         nt_level *lv = NULL;
         nt_text_error e;
         nt_status s = nt_level_import_n14("t.n", text, strlen(text), 0, &lv, NULL, &e, NULL, NULL);
         if (s == NT_OK) nt_level_destroy(lv);
-        nt_set_allocator(NULL, NULL, NULL);
-        assert_int_equal(g_live, 0);
+        assert_int_equal(failalloc_end(), 0);
         if (s == NT_OK) break;
         failures++;
         assert_int_equal(s, NT_ERR_OUT_OF_MEMORY);

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "failalloc.h"
 #include "ntile/ntile.h"
 
 #define HEAD "ntile-replay 1\nlevel l.ntl\nticks 100\n"
@@ -222,25 +223,6 @@ static void test_set_inputs_and_hashes(void **state)
     nt_replay_destroy(rp);
 }
 
-static long g_live, g_budget;
-
-static void *counting_alloc(size_t size, void *user)
-{
-    (void)user;
-    if (g_budget == 0) return NULL;
-    if (g_budget > 0) g_budget--;
-    void *p = malloc(size);
-    if (p) g_live++;
-    return p;
-}
-
-static void counting_free(void *p, void *user)
-{
-    (void)user;
-    g_live--;
-    free(p);
-}
-
 /* Every allocation of a parse fails in turn: reported, and nothing is left allocated. */
 static void test_parse_out_of_memory(void **state)
 {
@@ -250,15 +232,12 @@ static void test_parse_out_of_memory(void **state)
                                     "trace float 1 00000001 00000002\ntrace double 1 00000001\n";
     int failures = 0;
     for (long budget = 0;; budget++) {
-        g_live = 0;
-        g_budget = budget;
-        nt_set_allocator(counting_alloc, counting_free, NULL);
+        failalloc_begin(budget);
         nt_replay *rp = NULL;
         nt_text_error e;
         nt_status s = nt_replay_parse("r.ntr", text, sizeof text - 1, &rp, &e);
         if (s == NT_OK) nt_replay_destroy(rp);
-        nt_set_allocator(NULL, NULL, NULL);
-        assert_int_equal(g_live, 0);
+        assert_int_equal(failalloc_end(), 0);
         if (s == NT_OK) break;
         failures++;
         if (s != NT_ERR_OUT_OF_MEMORY) fprintf(stderr, "budget %ld: %s\n", budget, e.message);

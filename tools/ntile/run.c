@@ -228,14 +228,10 @@ static int record(const char *path, const char *text, size_t len, const nt_repla
     sb_put(&b, marker, sizeof marker - 1);
     if (me == 1 && other.n) sb_put(&b, other.p, other.n);
     /* The ticks to hash: this build's, else the other build's, else the last tick. */
-    int mine = 0, theirs = 0;
-    for (int k = 0; k < rp->hash_count; k++) {
-        if (rp->hashes[k].is_double == (me == 1)) mine++;
-        else theirs++;
-    }
+    int mine = 0;
+    for (int k = 0; k < rp->hash_count; k++) mine += rp->hashes[k].is_double == (me == 1);
     int ticks = rep->ticks;
     int want = rp->hash_count > 0 ? rp->hash_count : 1;
-    int written = 0;
     for (int k = 0; k < want; k++) {
         int t = ticks;
         const nt_replay_hash *old = NULL;
@@ -248,15 +244,12 @@ static int record(const char *path, const char *text, size_t len, const nt_repla
         if (t > ticks) continue;
         uint64_t h = rep->hashes[t];
         sb_printf(&b, "hash %s %d 0x%016llx\n", scalar, t, (unsigned long long)h);
-        written++;
         if (!old) printf("    %s hash at tick %d: added 0x%016llx\n", scalar, t, (unsigned long long)h);
         else if (old->hash != h)
             printf("    %s hash at tick %d: 0x%016llx -> 0x%016llx\n", scalar, t, (unsigned long long)old->hash,
                    (unsigned long long)h);
         else printf("    %s hash at tick %d: unchanged\n", scalar, t);
     }
-    (void)theirs;
-    (void)written;
     const uint32_t *tr = rp->trace[me];
     int trn = rp->trace_count[me];
     int changed = 0, first = -1;
@@ -383,9 +376,10 @@ static int run_level(const char *level_path, long long ticks, const char *input,
 {
     char why[600];
     nt_level *lv = NULL;
-    if (load_level(level_path, &lv, why, sizeof why) != NT_OK) {
+    nt_status ls = load_level(level_path, &lv, why, sizeof why);
+    if (ls != NT_OK) {
         fprintf(stderr, "ntile run: %s\n", why);
-        return lv ? CLI_INPUT_ERRORS : (strncmp(why, "cannot open", 11) == 0 ? CLI_USAGE : CLI_INPUT_ERRORS);
+        return ls == NT_ERR_PARSE ? CLI_INPUT_ERRORS : CLI_USAGE; /* a bad level, or no file */
     }
     nt_replay *rp = NULL;
     nt_text_error e;
