@@ -150,13 +150,6 @@ int nt_level_find_path(const nt_level *lv, const char *name)
     return -1;
 }
 
-static int find_spawner(const nt_level *lv, const char *name)
-{
-    for (int i = 0; i < lv->spawner_count; i++)
-        if (strcmp(lv->spawners[i].name, name) == 0) return i;
-    return -1;
-}
-
 static int count_name(const nt_level *lv, const char *name)
 {
     int n = 0;
@@ -167,11 +160,7 @@ static int count_name(const nt_level *lv, const char *name)
     return n;
 }
 
-static int name_taken(const nt_level *lv, const char *name)
-{
-    return nt_level_find_body(lv, name) >= 0 || nt_level_find_region(lv, name) >= 0 ||
-           nt_level_find_path(lv, name) >= 0 || find_spawner(lv, name) >= 0;
-}
+static int name_taken(const nt_level *lv, const char *name) { return count_name(lv, name) > 0; }
 
 int nt_level_instance_count(const nt_level *lv)
 {
@@ -333,6 +322,8 @@ nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *s)
     return append((void **)&lv->spawners, &lv->spawner_count, s, sizeof *s);
 }
 
+static int compare_names(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
+
 nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
 {
     if (!lv) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: NULL");
@@ -376,17 +367,24 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
             return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: spawner '%s': %s", lv->spawners[i].name, p);
     if (total_instances(lv) > NT_LEVEL_MAX_BODIES)
         return nt__error_plain(err, NT_ERR_LIMIT, "level: more than %d bodies", NT_LEVEL_MAX_BODIES);
-    /* One namespace for every named object (the writer relies on it). */
-    for (int kind = 0; kind < 4; kind++) {
-        int count = kind == 0 ? lv->body_count : kind == 1 ? lv->region_count : kind == 2 ? lv->path_count : lv->spawner_count;
-        for (int i = 0; i < count; i++) {
-            const char *name = kind == 0 ? lv->bodies[i].name : kind == 1 ? lv->regions[i].name
-                               : kind == 2 ? lv->paths[i].name : lv->spawners[i].name;
-            if (count_name(lv, name) > 1)
-                return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: duplicate name '%s'", name);
-        }
-    }
-    return NT_OK;
+    /* One namespace for every named object (the writer relies on it): sort the
+     * names and compare neighbours. */
+    size_t total = (size_t)lv->body_count + (size_t)lv->region_count + (size_t)lv->path_count + (size_t)lv->spawner_count;
+    if (total < 2) return NT_OK;
+    const char **names = (const char **)nt__alloc(total * sizeof *names);
+    if (!names) return nt__error_plain(err, NT_ERR_OUT_OF_MEMORY, "level: out of memory");
+    size_t k = 0;
+    for (int i = 0; i < lv->body_count; i++) names[k++] = lv->bodies[i].name;
+    for (int i = 0; i < lv->region_count; i++) names[k++] = lv->regions[i].name;
+    for (int i = 0; i < lv->path_count; i++) names[k++] = lv->paths[i].name;
+    for (int i = 0; i < lv->spawner_count; i++) names[k++] = lv->spawners[i].name;
+    qsort(names, total, sizeof *names, compare_names);
+    nt_status st = NT_OK;
+    for (k = 1; k < total && st == NT_OK; k++)
+        if (strcmp(names[k - 1], names[k]) == 0)
+            st = nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: duplicate name '%s'", names[k]);
+    nt__free(names);
+    return st;
 }
 
 /* ---------------------------------------------------------------- the parser */

@@ -657,6 +657,11 @@ static void test_api_validation(void **state)
     lv->bodies[0].mass = 0;
     assert_int_equal(nt_level_validate(lv, &e), NT_ERR_INVALID_ARGUMENT);
     assert_string_equal(e.message, "level: body 'a': mass must be > 0");
+    lv->bodies[0].mass = 1;
+    assert_int_equal(nt_level_validate(lv, &e), NT_OK);
+    strcpy(lv->regions[0].name, "a"); /* by hand, past the checks of nt_level_add_region */
+    assert_int_equal(nt_level_validate(lv, &e), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(e.message, "level: duplicate name 'a'");
     nt_level_destroy(lv);
     assert_int_equal(nt_level_tile_from_char('.'), 0);
     assert_int_equal(nt_level_tile_from_char('#'), 1);
