@@ -1,6 +1,7 @@
 # ntile — one Makefile for the library, the tools and the tests.
 #
-#   make                 library (static + shared) and the ntile CLI, in build/
+#   make                 libraries (engine static + shared, game layer static) and the
+#                        ntile CLI, in build/
 #   make test            build and run every test
 #   make asan            the whole test suite under AddressSanitizer + UBSan
 #   make run             the quick-start demonstration
@@ -45,6 +46,11 @@ SOFULL := 0.1.0
 
 LIB_SRC := $(wildcard src/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
+# The game layer (player, level objects, replay runner): its own static library,
+# never part of the engine's.
+GAME_SRC := $(wildcard src/game/*.c)
+GAME_OBJ := $(GAME_SRC:%.c=$(OBJ)/%.o)
+GAME_LIB := $(BUILD)/libntile-game.a
 CLI_SRC := $(wildcard tools/ntile/*.c)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
 TEST_SRC := $(wildcard tests/test_*.c)
@@ -58,7 +64,7 @@ TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 .SECONDARY:
 
 all: lib cli
-lib: $(BUILD)/libntile.a $(BUILD)/libntile.so
+lib: $(BUILD)/libntile.a $(BUILD)/libntile.so $(GAME_LIB)
 cli: $(BUILD)/ntile
 
 deps-cc:
@@ -81,13 +87,17 @@ $(BUILD)/libntile.so: $(BUILD)/libntile.so.$(SOFULL)
 	ln -sf libntile.so.$(SOFULL) $(BUILD)/libntile.so.$(SOVERSION)
 	ln -sf libntile.so.$(SOFULL) $@
 
-$(BUILD)/ntile: $(CLI_OBJ) $(BUILD)/libntile.a
-	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(BUILD)/libntile.a $(LIBS)
+$(GAME_LIB): $(GAME_OBJ) $(STAMP)
+	@rm -f $@
+	ar rcs $@ $(GAME_OBJ)
+
+$(BUILD)/ntile: $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
+	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(LIBS)
 
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers.
-$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(BUILD)/libntile.a | deps-test
+$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(BUILD)/libntile.a -lcmocka $(LIBS)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(LIBS)
 
 $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
@@ -117,17 +127,20 @@ valgrind:
 	  else fail=$$((fail+1)); tail -30 $$t.vg.log; echo "FAILED: $$t"; fi; \
 	done; echo "valgrind: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
-# The golden world hash must come out of gcc and clang at -O0, -O2 and -O3, in both
-# scalar builds: test_world pins it (test_determinism_and_golden_hash).
+# The golden world hash (test_world) and every replay's hashes (tests/replays/*.ntr,
+# one per scalar type) must come out of gcc and clang at -O0, -O2 and -O3, in both
+# scalar builds: each configuration is built and checked against the same goldens.
 DET_CCS ?= gcc clang
 DET_OPTS ?= -O0 -O2 -O3
 determinism:
 	@set -e; for cc in $(DET_CCS); do for o in $(DET_OPTS); do for d in 0 1; do \
 	  b=build/det/$$cc$$o-$$d; \
-	  $(MAKE) --no-print-directory -s BUILD=$$b CC=$$cc OPT=$$o NT_DOUBLE=$$d $$b/tests/test_world >/dev/null; \
+	  $(MAKE) --no-print-directory -s BUILD=$$b CC=$$cc OPT=$$o NT_DOUBLE=$$d $$b/tests/test_world $$b/ntile >/dev/null; \
 	  printf '%-6s %-4s %-6s ' $$cc $$o $$( [ $$d = 1 ] && echo double || echo float ); \
 	  $$b/tests/test_world 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/test_world; exit 1; }; \
-	  $$b/tests/test_world 2>&1 | grep 'golden hash'; \
+	  printf '%s, ' "$$($$b/tests/test_world 2>&1 | grep 'golden hash')"; \
+	  $$b/ntile run tests/replays/*.ntr > $$b/replays.log 2>&1 || { echo "replays FAILED"; cat $$b/replays.log; exit 1; }; \
+	  tail -1 $$b/replays.log; \
 	done; done; done
 
 # libFuzzer harnesses (tests/fuzz/fuzz_*.c), built with clang and run FUZZ_SECONDS each

@@ -4,6 +4,13 @@
  *   base.h   scalar type, vectors, status codes, allocator and assert hooks
  *   tiles.h  the 34 N tiles, exact minimum-translation routines, tile ray casts
  *   map.h    the tile map: edge states, resolution, ray casts
+ *   world.h  the world: bodies, the step, events, queries, debug draw
+ *   level.h  levels: the .ntl format, N v1.4 import, level -> world
+ *   replay.h replays: the .ntr format
+ *
+ * The game layer (player controller, level objects, replay runner) is a separate
+ * library, libntile-game, with its own header ntile/game.h; this header does not
+ * include it.
  */
 #ifndef NTILE_H
 #define NTILE_H
@@ -12,5 +19,7 @@
 #include "tiles.h"
 #include "map.h"
 #include "world.h"
+#include "level.h"
+#include "replay.h"
 
 #endif

@@ -2,7 +2,8 @@
  *
  * main.c dispatches `ntile SUBCOMMAND ARGS...` to one function per subcommand.
  * Each gets argv with argv[0] = the subcommand name and returns the process exit
- * status: 0 success, 1 the input had errors (query), 2 usage error or I/O failure.
+ * status: 0 success, 1 the input had errors (query, convert) or a replay failed (run),
+ * 2 usage error or I/O failure.
  */
 #ifndef NTILE_CLI_H
 #define NTILE_CLI_H
@@ -23,5 +24,18 @@ void cli_query_usage(FILE *f);
 /* `ntile bench SCENE [OPTIONS]` (bench.c). */
 int cli_bench(int argc, char **argv);
 void cli_bench_usage(FILE *f);
+
+/* `ntile run FILE.ntr...` and `ntile run --level FILE.ntl --ticks N ...` (run.c). */
+int cli_run(int argc, char **argv);
+void cli_run_usage(FILE *f);
+
+/* `ntile convert n14 FILE [--index N] [-o OUT.ntl]` (convert.c). */
+int cli_convert(int argc, char **argv);
+void cli_convert_usage(FILE *f);
+
+/* Whole files (run.c). "-" reads standard input. On failure `why` holds a message
+ * and the functions return 0. Writing goes through a temporary file and a rename. */
+int cli_read_file(const char *path, char **out, size_t *len, char *why, size_t why_cap);
+int cli_write_file(const char *path, const char *data, size_t len, char *why, size_t why_cap);
 
 #endif

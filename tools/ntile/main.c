@@ -1,7 +1,10 @@
-/* ntile — headless command-line tool: the query protocol and benchmarks.
+/* ntile — headless command-line tool: the query protocol, benchmarks, replays and
+ * level conversion.
  *
  *   ntile query [FILE]     answer collision queries, one output line per input line
  *   ntile bench SCENE      time a part of the engine
+ *   ntile run FILE.ntr...  replay levels headless and check their expectations
+ *   ntile convert n14 FILE convert an N v1.4 level to .ntl
  *   ntile help             this text
  */
 #include <stdio.h>
@@ -16,6 +19,8 @@ static void usage(FILE *f)
     fputs("usage: ntile SUBCOMMAND [ARGS...]\n\n", f);
     cli_query_usage(f);
     cli_bench_usage(f);
+    cli_run_usage(f);
+    cli_convert_usage(f);
     fputs("  ntile help\n      This text (also --help, -h, or no arguments).\n", f);
 }
 
@@ -32,6 +37,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "query") == 0) return cli_query(argc - 1, argv + 1);
     if (strcmp(argv[1], "bench") == 0) return cli_bench(argc - 1, argv + 1);
+    if (strcmp(argv[1], "run") == 0) return cli_run(argc - 1, argv + 1);
+    if (strcmp(argv[1], "convert") == 0) return cli_convert(argc - 1, argv + 1);
     fprintf(stderr, "ntile: unknown subcommand '%s'\n\n", argv[1]);
     usage(stderr);
     return CLI_USAGE;

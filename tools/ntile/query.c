@@ -283,7 +283,7 @@ static size_t parse_shape(query *q, size_t i, const char *cmd, int last, placed 
         return fail(q, "wrong number of fields: '%s %s' takes %s, got %zu field%s after '%s'", cmd, word,
                     box ? "CX CY HW HH" : "CX CY R", have, have == 1 ? "" : "s", word);
     char **f = q->fields + i + 1;
-    nt_real cx, cy, a, b = 0;
+    nt_real cx = 0, cy = 0, a = 0, b = 0;
     if (!parse_number(q, f[0], "x", &cx) || !parse_number(q, f[1], "y", &cy)) return 0;
     if (box) {
         if (!parse_size(q, f[2], "half-width", &a) || !parse_size(q, f[3], "half-height", &b)) return 0;

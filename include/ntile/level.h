@@ -1,0 +1,229 @@
+/* ntile — levels: the .ntl text format, its canonical writer, N v1.4 import, and
+ * building a world from a level.
+ *
+ * A level is plain data (nt_level): map size and cell size, the tile grid, per-cell
+ * materials and one-way flags, world settings, bodies, named regions, kinematic
+ * paths, spawners and the player spawn. The engine uses the map, the settings and
+ * the bodies (nt_level_create_world); regions, paths, spawners and the player are
+ * read by the game layer (ntile/game.h, a separate library).
+ *
+ * Parsers take a name (used in messages only), a buffer and its length: nothing
+ * here touches the file system. A parser that fails returns NT_ERR_PARSE (or
+ * NT_ERR_OUT_OF_MEMORY), sets *out to NULL, frees everything it built, and fills an
+ * nt_text_error with "NAME:LINE:COL: message". The format is described in README.md
+ * ("Levels: the .ntl format").
+ */
+#ifndef NTILE_LEVEL_H
+#define NTILE_LEVEL_H
+
+#include "base.h"
+#include "map.h"
+#include "tiles.h"
+#include "world.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Format version written by nt_level_write and accepted by nt_level_parse.
+#define NT_LEVEL_VERSION 1
+/// Longest object name plus its NUL (names: a letter or '_', then letters, digits, '_', '-', '.').
+#define NT_LEVEL_NAME_MAX 32
+/// Longest title or author plus its NUL.
+#define NT_LEVEL_TEXT_MAX 128
+/// Most waypoints in one path.
+#define NT_LEVEL_MAX_PATH_POINTS 64
+/// Most body instances in one level (repeats counted).
+#define NT_LEVEL_MAX_BODIES 1000000
+/// Most regions, paths or spawners (each).
+#define NT_LEVEL_MAX_OBJECTS 4096
+
+/// Where and why a text input was rejected.
+typedef struct nt_text_error {
+    int line;          ///< 1-based line, 0 when the error has no position
+    int column;        ///< 1-based byte column
+    char message[512]; ///< "NAME:LINE:COL: what is wrong", NUL-terminated
+} nt_text_error;
+
+/// What a region does (the game layer acts on it; NT_REGION_ZONE only names an area).
+typedef enum nt_region_kind {
+    NT_REGION_ZONE = 0,  ///< a named area, for expectations
+    NT_REGION_EXIT = 1,  ///< the player's centre inside: level complete
+    NT_REGION_SCORE = 2, ///< a body's centre inside: score += value once, the body is removed
+    NT_REGION_KILL = 3   ///< the player's centre inside: dead; other dynamic bodies are removed
+} nt_region_kind;
+
+/// A named axis-aligned area, lo..hi in world units.
+typedef struct nt_level_region {
+    char name[NT_LEVEL_NAME_MAX];
+    nt_region_kind kind;
+    nt_vec2 lo, hi;
+    int value; ///< score regions: points per body
+} nt_level_region;
+
+/// How a kinematic body follows its path.
+typedef enum nt_path_mode {
+    NT_PATH_LOOP = 0,     ///< waypoints in order, back to the first, forever
+    NT_PATH_PINGPONG = 1, ///< to the last waypoint and back (p0 .. pn-1 .. p1, then again)
+    NT_PATH_ORBIT = 2     ///< a circle around `center` of `radius`, clockwise on screen
+} nt_path_mode;
+
+/// A path for kinematic bodies: positions are a function of time (no drift).
+typedef struct nt_level_path {
+    char name[NT_LEVEL_NAME_MAX];
+    nt_path_mode mode;
+    nt_real speed; ///< world units per second along the path, > 0
+    nt_real wait;  ///< LOOP, PINGPONG: seconds the body rests at each waypoint, >= 0
+    int point_count;
+    nt_vec2 points[NT_LEVEL_MAX_PATH_POINTS]; ///< LOOP, PINGPONG: 2 or more waypoints
+    nt_vec2 center;                           ///< ORBIT
+    nt_real radius;                           ///< ORBIT, > 0
+} nt_level_path;
+
+/// A body of the level (or, with repeat_x * repeat_y > 1, a grid of identical ones).
+typedef struct nt_level_body {
+    char name[NT_LEVEL_NAME_MAX];
+    nt_body_type type;
+    nt_shape shape;
+    nt_vec2 position;
+    nt_vec2 velocity;
+    nt_real mass;
+    nt_real gravity_scale;
+    nt_real drag;
+    nt_material material;
+    uint32_t category, mask;
+    bool sensor;
+    bool sleep;       ///< may fall asleep
+    bool awake;       ///< starts awake
+    int path;         ///< index into paths (kinematic bodies), or -1
+    nt_real phase;    ///< where on the path it starts, fraction of the path in [0, 1)
+    int score;        ///< > 0: a sensor the player collects for this many points
+    bool deadly;      ///< touching it kills the player
+    bool is_template; ///< not created with the level; spawners copy it
+    int repeat_x, repeat_y; ///< instances in a grid (1 x 1 = one body)
+    nt_vec2 repeat_step;    ///< spacing of the grid
+} nt_level_body;
+
+/// When a spawner creates a body.
+typedef enum nt_spawn_trigger {
+    NT_SPAWN_ACTION = 0, ///< each time the action input is pressed
+    NT_SPAWN_EVERY = 1   ///< every `every` ticks from tick `start`
+} nt_spawn_trigger;
+
+/// Creates copies of a template body, at most `limit` of them.
+typedef struct nt_level_spawner {
+    char name[NT_LEVEL_NAME_MAX];
+    int template_body; ///< index into bodies (a template)
+    nt_spawn_trigger trigger;
+    int every, start;  ///< NT_SPAWN_EVERY: period and first tick (ticks >= 1)
+    int limit;         ///< most bodies it creates, >= 1
+    int attach;        ///< index into bodies: spawn at that body's position + offset; -1: at the template's position
+    nt_vec2 offset;
+    nt_real jitter;    ///< random extra x velocity in [-jitter, jitter] (units/s, the level's RNG)
+} nt_level_spawner;
+
+/// A level. Build one with nt_level_parse, nt_level_import_n14 or nt_level_create.
+typedef struct nt_level {
+    char title[NT_LEVEL_TEXT_MAX];
+    char author[NT_LEVEL_TEXT_MAX];
+    int width, height;      ///< cells, 1..NT_MAP_MAX_SIDE
+    nt_real cell_size;      ///< world units, > 0
+    nt_vec2 gravity;
+    nt_friction_model friction_model;
+    bool sleep;             ///< world.enable_sleep
+    uint64_t seed;          ///< the game layer's random source starts here
+    nt_material materials[NT_MAX_MATERIALS]; ///< tile materials; 0 is the default
+    nt_material body_material; ///< default material of bodies
+    nt_real body_drag;         ///< default linear drag of bodies
+    uint8_t *tiles;          ///< width * height tile ids, row-major, row 0 first
+    uint8_t *cell_materials; ///< width * height material indices
+    uint8_t *cell_flags;     ///< width * height NT_CELL_* flags
+    bool has_player;
+    nt_vec2 player;          ///< the player's spawn (centre)
+    int body_count, region_count, path_count, spawner_count;
+    nt_level_body *bodies;
+    nt_level_region *regions;
+    nt_level_path *paths;
+    nt_level_spawner *spawners;
+} nt_level;
+
+/// An empty level (all EMPTY tiles, N's world defaults, no objects) of width x height cells.
+nt_status nt_level_create(int width, int height, nt_real cell_size, nt_level **out);
+
+/// Free a level and everything it owns (NULL is ignored).
+void nt_level_destroy(nt_level *level);
+
+/// Parse a .ntl text. `name` is used only in messages. On failure *out is NULL and
+/// `error` (may be NULL) says where and why.
+nt_status nt_level_parse(const char *name, const char *text, size_t length, nt_level **out, nt_text_error *error);
+
+/// Write the canonical .ntl text of a level into buf (at most cap bytes, always
+/// NUL-terminated when cap > 0). Returns the full length (without the NUL), so a
+/// call with cap = 0 measures it. Parsing the output gives back an identical level.
+size_t nt_level_write(const nt_level *level, char *buf, size_t cap);
+
+/// Check a level built by hand (ranges, names, references, shapes against the cell
+/// size). NT_OK or the first problem, described in `error` (no position).
+nt_status nt_level_validate(const nt_level *level, nt_text_error *error);
+
+/// Add a body (copied) to the level; *index (may be NULL) receives its index. Checked as by nt_level_validate.
+nt_status nt_level_add_body(nt_level *level, const nt_level_body *body, int *index);
+
+/// Add a region (copied).
+nt_status nt_level_add_region(nt_level *level, const nt_level_region *region);
+
+/// Add a path (copied); *index (may be NULL) receives its index.
+nt_status nt_level_add_path(nt_level *level, const nt_level_path *path, int *index);
+
+/// Add a spawner (copied).
+nt_status nt_level_add_spawner(nt_level *level, const nt_level_spawner *spawner);
+
+/// A body with the level's defaults (dynamic 12 x 12 box, mass 1, the level's body
+/// material and drag, category 1, mask all, no path, 1 x 1).
+nt_level_body nt_level_default_body(const nt_level *level);
+
+/// Index of the body called `name`, or -1.
+int nt_level_find_body(const nt_level *level, const char *name);
+/// Index of the region called `name`, or -1.
+int nt_level_find_region(const nt_level *level, const char *name);
+/// Index of the path called `name`, or -1.
+int nt_level_find_path(const nt_level *level, const char *name);
+
+/// Number of bodies nt_level_create_world creates (templates excluded, repeats counted).
+int nt_level_instance_count(const nt_level *level);
+
+/// Create a world from the level: map, tiles, materials, cell flags, settings, and
+/// every non-template body (repeats expanded row by row) in level order. The world
+/// definition's speeds given for 24-unit cells (restitution and hit thresholds,
+/// sleep speed) are scaled by cell_size / 24. `ids` (may be NULL) receives
+/// nt_level_instance_count(level) handles. On failure *out is NULL and nothing is
+/// left behind.
+nt_status nt_level_create_world(const nt_level *level, nt_world **out, nt_body_id *ids, size_t id_count);
+
+/// The body definition of one body of the level (instance `k` of its repeat grid, row by row).
+nt_body_def nt_level_body_def(const nt_level_body *body, int k);
+
+/// Called for each warning of an import (skipped objects); `message` is "NAME:LINE:COL: text".
+typedef void nt_warning_fn(const char *message, void *context);
+
+/// Import level number `index` (0-based: the index-th line that holds a level) of an N
+/// v1.4 text: `$name#author##TILES|OBJECTS#`, 713 tile characters stored column by
+/// column. Gives a 33 x 25 level of cell 24 with the one-cell FULL border, the player
+/// spawn, the exit door (region "exit"), gold (score sensors), mines (deadly sensors),
+/// one-way platforms, bounce blocks (dynamic boxes) and launch pads (bouncy cells).
+/// Unknown or unsupported objects are skipped with a warning. *count (may be NULL)
+/// receives the number of levels in the text.
+nt_status nt_level_import_n14(const char *name, const char *text, size_t length, int index, nt_level **out,
+                              int *count, nt_text_error *error, nt_warning_fn *warn, void *context);
+
+/// The character that stands for a tile id in the .ntl grid ('.', '#', or N's '0' + id), or 0.
+char nt_level_tile_char(int tile);
+
+/// The tile id of a .ntl grid character, or -1.
+int nt_level_tile_from_char(char c);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

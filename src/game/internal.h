@@ -1,0 +1,60 @@
+/* Internals shared by the game layer's sources (game.c, player.c, runner.c). */
+#ifndef NT_GAME_INTERNAL_H
+#define NT_GAME_INTERNAL_H
+
+#include "ntile/game.h"
+
+/* What made a body. */
+enum { GB_LEVEL = 0, GB_PLAYER = 1, GB_SPAWNED = 2 };
+
+typedef struct game_body {
+    nt_body_id id;
+    int source;     /* GB_* */
+    int level_body; /* index into the level's bodies (level and spawned bodies), else -1 */
+    bool alive;
+} game_body;
+
+/* The controller's memory between ticks. */
+typedef struct player_state {
+    bool jumping;        /* a jump is rising with the button held */
+    int since_floor;     /* ticks since the player last stood on a floor */
+    int since_wall;      /* ticks since it last touched a wall */
+    int wall_away;       /* +1: the last wall was on the left (jump right); -1: on the right */
+    bool on_floor, wall_left, wall_right; /* sensed after the last step */
+    nt_vec2 normal;      /* the floor's normal when on_floor */
+    nt_body_id ground;   /* the body the player stands on, else null */
+    nt_vec2 ground_v;    /* its velocity after the last step */
+    nt_body_tile_contacts tc;
+} player_state;
+
+struct nt_game {
+    const nt_level *level;
+    nt_game_def def;
+    nt_world *world;
+    nt_real cell;
+    game_body *bodies; /* creation order */
+    int body_count, body_cap;
+    int *slot_record;  /* body slot (index1 - 1) -> index in bodies, or -1 */
+    int slot_cap;
+    int *level_first;  /* level body -> record of its first instance, or -1 */
+    int player_record; /* -1 without a player */
+    player_state ps;
+    uint32_t prev_keys;
+    int *spawn_counts; /* per spawner */
+    nt_rng rng;
+    double time;       /* seconds stepped, for paths */
+    int tick, score, complete_tick, death_tick, spawned;
+    bool complete, dead;
+    bool has_score_or_kill; /* some region acts on bodies other than the player */
+};
+
+/* The record of a live body, or NULL. */
+game_body *nt__game_record(const nt_game *g, nt_body_id id);
+
+/* Read the player's contacts after a step: floor (tile or body), walls, timers (player.c). */
+void nt__player_sense(nt_game *g);
+
+/* Set the player's velocity and gravity scale for the coming step (player.c). */
+void nt__player_control(nt_game *g, uint32_t keys, nt_real dt);
+
+#endif

@@ -1,0 +1,149 @@
+/* ntile convert — level conversions.
+ *
+ *   ntile convert n14 FILE [--index N] [-o OUT.ntl]
+ *       Convert the N-th N v1.4 level string of FILE (default the first; one level
+ *       per line) to .ntl, written to OUT.ntl or standard output. Objects ntile does
+ *       not support are skipped with a warning on standard error.
+ *   ntile convert n14 FILE --list
+ *       List the levels of FILE: index and name.
+ *
+ * Exit status: 0 converted, 1 the input is not a valid N level (message
+ * "FILE:LINE:COL: ..." on standard error), 2 usage error or I/O failure. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+#include "ntile/ntile.h"
+
+void cli_convert_usage(FILE *f)
+{
+    fputs("  ntile convert n14 FILE [--index N] [-o OUT.ntl]\n"
+          "      Convert an N v1.4 level string ($NAME#AUTHOR##TILES|OBJECTS#, one level a\n"
+          "      line; --index picks the N-th, default 1) to .ntl on standard output or\n"
+          "      OUT.ntl. Unsupported objects are skipped with a warning on stderr.\n"
+          "  ntile convert n14 FILE --list\n"
+          "      List the levels in FILE (index and name).\n",
+          f);
+}
+
+static int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "ntile convert: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\nusage:\n");
+    cli_convert_usage(stderr);
+    return CLI_USAGE;
+}
+
+static void on_warning(const char *message, void *context)
+{
+    int *count = context;
+    ++*count;
+    fprintf(stderr, "%s\n", message);
+}
+
+static int list_levels(const char *path, const char *text, size_t len)
+{
+    int count = 0;
+    nt_level *lv = NULL;
+    nt_text_error e;
+    if (nt_level_import_n14(path, text, len, 0, &lv, &count, &e, NULL, NULL) != NT_OK && count == 0) {
+        fprintf(stderr, "%s\n", e.message);
+        return CLI_INPUT_ERRORS;
+    }
+    nt_level_destroy(lv);
+    int status = CLI_OK;
+    for (int i = 0; i < count; i++) {
+        if (nt_level_import_n14(path, text, len, i, &lv, NULL, &e, NULL, NULL) != NT_OK) {
+            printf("%d\t(invalid: %s)\n", i + 1, e.message);
+            status = CLI_INPUT_ERRORS;
+            continue;
+        }
+        printf("%d\t%s\n", i + 1, lv->title);
+        nt_level_destroy(lv);
+    }
+    return status;
+}
+
+int cli_convert(int argc, char **argv)
+{
+    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        printf("usage:\n");
+        cli_convert_usage(stdout);
+        return CLI_OK;
+    }
+    if (argc < 2) return usage_error("%s", "missing the format (n14)");
+    if (strcmp(argv[1], "n14") != 0) return usage_error("unknown format '%s' (this ntile converts n14)", argv[1]);
+    const char *in = NULL, *out = NULL;
+    long index = 1;
+    int list = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
+            if (i + 1 >= argc) return usage_error("%s needs a file name", a);
+            out = argv[++i];
+        } else if (strcmp(a, "--index") == 0) {
+            char *end;
+            if (i + 1 >= argc) return usage_error("%s needs a number", a);
+            errno = 0;
+            index = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || errno || index < 1 || index > 1000000000)
+                return usage_error("--index needs a level number from 1, got '%s'", argv[i]);
+        } else if (strcmp(a, "--list") == 0) {
+            list = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return usage_error("unknown option '%s'", a);
+        } else if (in) {
+            return usage_error("more than one input file ('%s')", a);
+        } else {
+            in = a;
+        }
+    }
+    if (!in) return usage_error("%s", "missing the input FILE");
+    char *text;
+    size_t len;
+    char why[600];
+    if (!cli_read_file(in, &text, &len, why, sizeof why)) {
+        fprintf(stderr, "ntile convert: %s\n", why);
+        return CLI_USAGE;
+    }
+    if (list) {
+        int st = list_levels(in, text, len);
+        free(text);
+        return st;
+    }
+    nt_level *lv = NULL;
+    nt_text_error e;
+    int count = 0, warnings = 0;
+    nt_status s = nt_level_import_n14(in, text, len, (int)(index - 1), &lv, &count, &e, on_warning, &warnings);
+    free(text);
+    if (s != NT_OK) {
+        fprintf(stderr, "%s\n", e.message);
+        return CLI_INPUT_ERRORS;
+    }
+    if (count > 1 && index == 1)
+        fprintf(stderr, "ntile convert: %s holds %d levels; converted the first (choose one with --index N)\n", in, count);
+    size_t n = nt_level_write(lv, NULL, 0);
+    char *buf = malloc(n + 1);
+    int status = CLI_OK;
+    if (!buf) {
+        fprintf(stderr, "ntile convert: out of memory\n");
+        status = CLI_USAGE;
+    } else {
+        nt_level_write(lv, buf, n + 1);
+        if (out) {
+            if (!cli_write_file(out, buf, n, why, sizeof why)) {
+                fprintf(stderr, "ntile convert: %s\n", why);
+                status = CLI_USAGE;
+            }
+        } else if (fwrite(buf, 1, n, stdout) != n || fflush(stdout) != 0) {
+            fprintf(stderr, "ntile convert: error writing the output\n");
+            status = CLI_USAGE;
+        }
+    }
+    free(buf);
+    nt_level_destroy(lv);
+    return status;
+}
