@@ -165,8 +165,9 @@ fuzz:
 	  grep -E "stat::number_of_executed_units|stat::peak_rss" build/fuzz/$$n.log | tr '\n' ' '; echo; \
 	done
 
+# The main job until the playground exists: replay the default level headless.
 run: $(BUILD)/ntile
-	$(BUILD)/ntile query levels/demo.query
+	$(BUILD)/ntile run tests/replays/ninja.ntr
 
 clean:
 	rm -rf build

@@ -208,6 +208,23 @@ static long long total_instances(const nt_level *lv)
     return n;
 }
 
+/* Within NT_WORLD_REACH_CELLS cells of the map, computed as the world computes it
+ * (a world refuses anything farther out). */
+static int in_reach(const nt_level *lv, nt_vec2 p)
+{
+    nt_real m = lv->cell_size * NT_WORLD_REACH_CELLS;
+    return p.x >= -m && p.y >= -m && p.x <= (nt_real)lv->width * lv->cell_size + m &&
+           p.y <= (nt_real)lv->height * lv->cell_size + m;
+}
+
+/* Every instance of a body within reach: the first and the last of its repeat grid. */
+static int body_in_reach(const nt_level *lv, const nt_level_body *b)
+{
+    nt_vec2 last = nt_v2(b->position.x + (nt_real)(b->repeat_x - 1) * b->repeat_step.x,
+                         b->position.y + (nt_real)(b->repeat_y - 1) * b->repeat_step.y);
+    return in_reach(lv, b->position) && in_reach(lv, last);
+}
+
 static const char *body_problem(const nt_level *lv, const nt_level_body *b)
 {
     const char *p;
@@ -227,6 +244,7 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
     if (b->score > 0 && !b->sensor) return "a body with a score must be a sensor";
     if (b->repeat_x < 1 || b->repeat_y < 1 || b->repeat_x > 10000 || b->repeat_y > 10000) return "repeat outside 1..10000";
     if (b->is_template && (b->repeat_x > 1 || b->repeat_y > 1)) return "a template cannot repeat";
+    if (!body_in_reach(lv, b)) return "position more than 64 cells outside the map";
     return NULL;
 }
 
@@ -340,6 +358,9 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
         return nt__error_plain(err, NT_ERR_NON_FINITE, "level: non-finite setting");
     if (lv->friction_model != NT_FRICTION_N && lv->friction_model != NT_FRICTION_COULOMB)
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: unknown friction model");
+    if (lv->has_player && !in_reach(lv, lv->player))
+        return nt__error_plain(err, NT_ERR_OUT_OF_RANGE, "level: player spawn more than %d cells outside the map",
+                               NT_WORLD_REACH_CELLS);
     if (lv->body_drag < 0) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: negative body drag");
     const char *p;
     for (int i = 0; i < NT_MAX_MATERIALS; i++)
@@ -730,6 +751,8 @@ static nt_status parse_player(parser *P)
     if (s != NT_OK) return s;
     if ((s = nt__expect_fields(t, 3, "player X Y")) != NT_OK) return s;
     if ((s = vec_at(P, 1, "player x", "player y", &P->lv->player)) != NT_OK) return s;
+    if (!in_reach(P->lv, P->lv->player))
+        return nt__fail_col(&P->t, P->t.f[1].col, "player spawn is more than %d cells outside the map", NT_WORLD_REACH_CELLS);
     P->lv->has_player = true;
     return NT_OK;
 }
@@ -897,6 +920,7 @@ static nt_status parse_body(parser *P)
     if ((s = need(P, i, form)) != NT_OK) return s;
     if (!nt__field_is(&t->f[i], "at"))
         return nt__fail_col(t, t->f[i].col, "expected 'at X Y', got '%s'", nt__quote(q, t->f[i].s, t->f[i].n));
+    int at = i;
     if ((s = need(P, i + 2, form)) != NT_OK) return s;
     if ((s = vec_at(P, i + 1, "x", "y", &b.position)) != NT_OK) return s;
     i += 3;
@@ -979,6 +1003,11 @@ static nt_status parse_body(parser *P)
     if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, seen[O_PHASE], "'phase' needs 'path'");
     if (b.score > 0 && !b.sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
     if (b.is_template && (b.repeat_x > 1 || b.repeat_y > 1)) return nt__fail_col(t, repeat_col, "a template cannot repeat");
+    if (!in_reach(lv, b.position))
+        return nt__fail_col(t, t->f[at + 1].col, "position %g %g is more than %d cells outside the map", (double)b.position.x,
+                            (double)b.position.y, NT_WORLD_REACH_CELLS);
+    if (!body_in_reach(lv, &b))
+        return nt__fail_col(t, repeat_col, "the repeat grid reaches more than %d cells outside the map", NT_WORLD_REACH_CELLS);
     long long add = instances_of(&b);
     if (P->instances + add > NT_LEVEL_MAX_BODIES)
         return nt__fail_col(t, t->f[1].col, "too many bodies: more than %d in the level", NT_LEVEL_MAX_BODIES);

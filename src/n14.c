@@ -95,7 +95,7 @@ static nt_status add_region(importer *im, const char *base, nt_region_kind kind,
     return NT_OK;
 }
 
-static int cell_of(nt_real v) { return (int)nt__floor(v / N14_CELL); }
+static int cell_of(nt_real v) { return nt__floor_int(v / N14_CELL); } /* clamped: coordinates may be huge */
 
 static int in_map(const nt_level *lv, int x, int y) { return x >= 0 && y >= 0 && x < lv->width && y < lv->height; }
 
@@ -138,6 +138,12 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
     if (nv < need[type])
         return nt__fail_col(t, col, "object type %lld needs %d values, got %d", type, need[type], nv);
     nt_vec2 pos = nt_v2(v[0], v[1]);
+    /* N places every object inside its 33 x 25 playfield: one outside is a broken
+     * level, and could not be built as a world (nothing may sit that far out). */
+    if (!(pos.x >= 0 && pos.y >= 0 && pos.x <= (nt_real)lv->width * N14_CELL && pos.y <= (nt_real)lv->height * N14_CELL)) {
+        warn_at(im, col, "object at %g,%g lies outside the level; skipped", (double)pos.x, (double)pos.y);
+        return NT_OK;
+    }
     nt_level_body b = nt_level_default_body(lv);
     b.position = pos;
     switch (type) {
@@ -171,7 +177,7 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
         return NT_OK;
     case 7: { /* one-way platform */
         static const char *const dirs[4] = {"right", "down", "left", "up"};
-        int dir = (int)v[2];
+        int dir = v[2] >= 0 && v[2] <= 3 ? (int)v[2] : -1; /* range first: the cast of a huge value is undefined */
         if ((nt_real)dir != v[2] || dir < 0 || dir > 3) {
             warn_at(im, col, "one-way platform with direction %g (expected 0..3); skipped", (double)v[2]);
             return NT_OK;

@@ -353,8 +353,10 @@ nt_status nt__field_string(nt__text *t, const nt__field *f, const char *what, ch
     if (n >= cap) return nt__fail_col(t, f->col, "%s is longer than %zu bytes", what, cap - 1);
     for (size_t i = 0; i < n; i++) {
         unsigned char c = (unsigned char)s[i];
-        if (c < 0x20 || c == 0x7f || c == '\\')
-            return nt__fail_col(t, f->col + (int)(s - f->s) + (int)i, "%s holds a control character or '\\'", what);
+        /* No escapes exist: a '"' could not be written back inside the quotes. */
+        if (c < 0x20 || c == 0x7f || c == '\\' || c == '"')
+            return nt__fail_col(t, f->col + (int)(s - f->s) + (int)i, "%s holds a control character, '\\' or '\"'",
+                                what);
     }
     memcpy(out, s, n);
     out[n] = '\0';

@@ -243,7 +243,7 @@ static void test_setting_errors(void **state)
                 "t.ntl:3:15: body-material friction 2 is above 1, the limit of the N friction model");
     parse_fails(HEAD "body-drag -1\n", "t.ntl:3:11: body drag '-1' must be >= 0");
     parse_fails(HEAD "title Level\n", "t.ntl:3:7: title must be a quoted string, got 'Level'");
-    parse_fails(HEAD "title \"a \\ b\"\n", "t.ntl:3:10: title holds a control character or '\\'");
+    parse_fails(HEAD "title \"a \\ b\"\n", "t.ntl:3:10: title holds a control character, '\\' or '\"'");
     parse_fails(HEAD "title \"unterminated\n", "t.ntl:3:7: unterminated string (no closing '\"' on this line)");
     parse_fails(HEAD "title \"a\"b\n", "t.ntl:3:10: text right after a closing quote");
     parse_fails(HEAD "gravity 0 1\nwind 3\n", "t.ntl:4:1: unknown keyword 'wind'");
@@ -327,6 +327,12 @@ static void test_body_errors(void **state)
     parse_fails(HEAD GRID "body b dynamic circle 12.5 at 0 0\n",
                 "t.ntl:6:23: radius '12.5' is larger than half a cell (12)");
     parse_fails(HEAD GRID "body b dynamic box 6 13 at 0 0\n", "t.ntl:6:22: half-height '13' is larger than half a cell (12)");
+    /* A world refuses bodies more than NT_WORLD_REACH_CELLS (64) cells outside the map. */
+    parse_fails(HEAD GRID "body b dynamic circle 5 at -1600 0\n",
+                "t.ntl:6:28: position -1600 0 is more than 64 cells outside the map");
+    parse_fails(HEAD GRID "body b static circle 5 at 10 10 repeat 100 1 24 0\n",
+                "t.ntl:6:33: the repeat grid reaches more than 64 cells outside the map");
+    parse_fails(HEAD GRID "player 1e9 1\n", "t.ntl:6:8: player spawn is more than 64 cells outside the map");
     parse_fails(HEAD GRID "body b dynamic circle 0 at 0 0\n", "t.ntl:6:23: radius '0' must be > 0");
     parse_fails(HEAD GRID "body b dynamic circle 1 0 0\n", "t.ntl:6:25: expected 'at X Y', got '0'");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0\n",
@@ -471,7 +477,7 @@ static void test_roundtrip_hand_written(void **state)
     roundtrip_text("ntile-level 1\nsize 2 1\ncell 0.1\ngravity -0 1e-7\nfriction-model coulomb\nmaterial 0 3.5 0\n"
                    "tiles\n|.Q|\npath o orbit speed 0.3 center 0.05 0.05 radius 0.01\n"
                    "body k kinematic circle 0.0333 at 0 0 path o phase 0.999\n"
-                   "body s static box 0.05 0.01 at 1e-3 -2.5e5 sensor deadly score 2 category 0 mask 0\n");
+                   "body s static box 0.05 0.01 at 1e-3 -6.25 sensor deadly score 2 category 0 mask 0\n");
 }
 
 /* The canonical text of a known level, exactly. */
@@ -520,7 +526,9 @@ static void test_roundtrip_random(void **state)
             lv->cell_flags[k] = (uint8_t)(rnd() % 9 == 0 ? NT_CELL_ONE_WAY : 0);
         }
         lv->has_player = rnd() % 2;
-        lv->player = nt_v2(rreal(-1e3, 1e3), rreal(-1e3, 1e3));
+        /* Anywhere within the reach of a world: up to 30 cells outside the map. */
+        nt_real cs = lv->cell_size;
+        lv->player = nt_v2(rreal(-30, w + 30) * cs, rreal(-30, h + 30) * cs);
         nt_level_path p;
         memset(&p, 0, sizeof p);
         snprintf(p.name, sizeof p.name, "path_%d", iter);
@@ -540,7 +548,7 @@ static void test_roundtrip_random(void **state)
             b.type = (nt_body_type)(rnd() % 3);
             nt_real r = rreal(0.001, 0.5) * lv->cell_size;
             b.shape = rnd() % 2 ? nt_shape_circle(r) : nt_shape_aabb(r, rreal(0.001, 0.5) * lv->cell_size);
-            b.position = nt_v2(rreal(-1e4, 1e4), rreal(-1e4, 1e4));
+            b.position = nt_v2(rreal(-30, w + 30) * cs, rreal(-30, h + 30) * cs);
             b.velocity = nt_v2(rreal(-10, 10), 0);
             b.mass = rreal(0.01, 9);
             b.material = (nt_material){rreal(0, 1), rreal(0, 1)};
@@ -556,7 +564,7 @@ static void test_roundtrip_random(void **state)
             if (!b.is_template && rnd() % 3 == 0) {
                 b.repeat_x = 1 + (int)(rnd() % 4);
                 b.repeat_y = 1 + (int)(rnd() % 4);
-                b.repeat_step = nt_v2(rreal(0, 30), rreal(-30, 30));
+                b.repeat_step = nt_v2(rreal(0, 3) * cs, rreal(-3, 3) * cs);
             }
             assert_int_equal(nt_level_add_body(lv, &b, NULL), NT_OK);
             if (b.is_template) {

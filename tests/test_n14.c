@@ -107,6 +107,20 @@ static void test_tiles_and_border(void **state)
     nt_level_destroy(lv);
 }
 
+/* Found by the fuzzer: huge coordinates and directions must be judged, not cast. */
+static void test_huge_numbers(void **state)
+{
+    (void)state;
+    char t[COLS * ROWS + 1];
+    blank_tiles(t);
+    warnings w = {0};
+    nt_level *lv = import_ok(level_string("huge", t, "5^60,516!7^300,228,3e9!0^-2.5e27,3e38!12^4e30,1"), 0, &w);
+    assert_true(lv->has_player);
+    assert_int_equal(lv->body_count, 0); /* the platform, the gold and the pad are all skipped with warnings */
+    assert_true(w.count >= 2);
+    nt_level_destroy(lv);
+}
+
 static void test_objects(void **state)
 {
     (void)state;
@@ -252,6 +266,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tiles_and_border),
         cmocka_unit_test(test_objects),
+        cmocka_unit_test(test_huge_numbers),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_several_levels),
         cmocka_unit_test(test_out_of_memory),

@@ -109,6 +109,8 @@ static void test_errors(void **state)
     parse_fails("ntile-replay 1\nlevel x\n", "r.ntr:3:1: unexpected end of file: no 'ticks' line");
     parse_fails("ntile-replay 1\nlevel x", "r.ntr:2:8: unexpected end of file: no 'ticks' line");
     parse_fails("ntile-replay 1\nlevel \"\"\nticks 1\n", "r.ntr:2:7: empty level path");
+    /* Found by the fuzzer: a '"' inside a bare path could not be written back. */
+    parse_fails("ntile-replay 1\nlevel ../a\"b.ntl\nticks 1\n", "r.ntr:2:11: level path holds a control character, '\\' or '\"'");
     parse_fails("ntile-replay 1\nticks 0\n", "r.ntr:2:7: ticks '0' is out of range 1..100000000");
     parse_fails("ntile-replay 1\nticks 1\nticks 2\n", "r.ntr:3:1: duplicate 'ticks' (first at line 2)");
     parse_fails("ntile-replay 1\ninput 3R\n", "r.ntr:2:1: 'input' before 'ticks' (the tick count must come first)");
