@@ -21,4 +21,8 @@ void cli_query_usage(FILE *f);
 int cli_bench(int argc, char **argv);
 void cli_bench_usage(FILE *f);
 
+/* `ntile sheet [-o FILE.svg]` (sheet.c): the gizmo answer key as SVG. */
+int cli_sheet(int argc, char **argv);
+void cli_sheet_usage(FILE *f);
+
 #endif

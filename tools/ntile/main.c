@@ -2,6 +2,7 @@
  *
  *   ntile query [FILE]     answer collision queries, one output line per input line
  *   ntile bench SCENE      time a part of the engine
+ *   ntile sheet [-o FILE]  the answer-key sheet (SVG)
  *   ntile help             this text
  */
 #include <stdio.h>
@@ -16,6 +17,7 @@ static void usage(FILE *f)
     fputs("usage: ntile SUBCOMMAND [ARGS...]\n\n", f);
     cli_query_usage(f);
     cli_bench_usage(f);
+    cli_sheet_usage(f);
     fputs("  ntile help\n      This text (also --help, -h, or no arguments).\n", f);
 }
 
@@ -32,6 +34,7 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "query") == 0) return cli_query(argc - 1, argv + 1);
     if (strcmp(argv[1], "bench") == 0) return cli_bench(argc - 1, argv + 1);
+    if (strcmp(argv[1], "sheet") == 0) return cli_sheet(argc - 1, argv + 1);
     fprintf(stderr, "ntile: unknown subcommand '%s'\n\n", argv[1]);
     usage(stderr);
     return CLI_USAGE;
