@@ -25,11 +25,13 @@
  * with %.9g, which round-trips a float; the samples sit on a 1/64 grid so that their
  * printed positions are exact. Everything else is layout.
  */
+#define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "cli.h"
 #include "ntile/ntile.h"
 
@@ -640,6 +642,8 @@ int cli_sheet(int argc, char **argv)
     int werr = to_stdout ? (fflush(stdout) != 0 || ferror(stdout)) : (ferror(sh.f) | (fclose(sh.f) != 0));
     if (!ok) fprintf(stderr, "ntile sheet: %s\n", sh.error ? sh.error : "engine failure");
     else if (werr) fprintf(stderr, "ntile sheet: error writing %s\n", to_stdout ? "standard output" : path);
-    if ((!ok || werr) && !to_stdout) remove(path); /* no half-written sheet left behind */
+    /* No half-written sheet left behind; but never remove what is not a plain file (/dev/full). */
+    struct stat st;
+    if ((!ok || werr) && !to_stdout && stat(path, &st) == 0 && S_ISREG(st.st_mode)) remove(path);
     return ok && !werr ? CLI_OK : CLI_USAGE;
 }
