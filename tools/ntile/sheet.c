@@ -331,11 +331,11 @@ static void legend_panel(FILE *f, double x0, double y0)
         double x = 120, y = 36 + 15 * k;
         const char *c = rows[k][0];
         if (c[0] == 'e')
-            fprintf(f, "<line class=\"%s\" x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" style=\"stroke-width:4\"/>\n", c, x,
-                    y - 4, x + 30, y - 4);
+            fprintf(f, "<line class=\"%s\" x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" style=\"stroke-width:%s\"/>\n", c,
+                    x, y - 4, x + 30, y - 4, c[1] == '0' ? "1.5;stroke-dasharray:4 3" : "4");
         else if (c[0] == 'o' || c[0] == 'r')
-            fprintf(f, "<rect class=\"%s\" x=\"%g\" y=\"%g\" width=\"22\" height=\"10\" style=\"stroke-width:1\"/>\n", c,
-                    x + 4, y - 10);
+            fprintf(f, "<rect class=\"%s\" x=\"%g\" y=\"%g\" width=\"22\" height=\"10\" style=\"stroke-width:1%s\"/>\n",
+                    c, x + 4, y - 10, c[0] == 'r' ? ";stroke-dasharray:3 2" : "");
         else
             fprintf(f, "<path class=\"%s\" d=\"M%g %gl28 0\" style=\"stroke-width:1.5\"/>\n", c, x, y - 4);
         fprintf(f, "<text class=\"s\" x=\"%g\" y=\"%g\">%s</text>\n", x + 38, y, rows[k][1]);
