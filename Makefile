@@ -7,6 +7,12 @@
 #   make run             the quick-start demonstration
 #   make NT_DOUBLE=1 …   everything with double as the scalar type
 #   make CC=clang OPT=-O3 …  any compiler / optimisation level
+#   make install [PREFIX=/usr/local] [DESTDIR=]   headers, libraries, ntile.pc
+#   make uninstall       remove what install put there (same PREFIX and DESTDIR)
+#   make check-install   install into a temporary DESTDIR, build and run the embedding
+#                        example through pkg-config, uninstall
+#   make check-headers   each public header alone as C11 (-Werror) and as C++11
+#   make sheet           regenerate tools/ntile/sheet.svg (the answer key shown in the README)
 #
 # Replays must be bit-identical across optimisation levels and compilers, so the
 # floating-point flags are fixed: -ffp-contract=off always, never -ffast-math.
@@ -58,7 +64,8 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test
+.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test deps-cxx deps-pkgconfig \
+        install uninstall check-install check-headers sheet
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -71,6 +78,10 @@ deps-cc:
 	@tools/deps.sh cc
 deps-test:
 	@tools/deps.sh cc cmocka
+deps-cxx:
+	@tools/deps.sh cc cxx
+deps-pkgconfig:
+	@tools/deps.sh cc pkgconfig
 
 $(OBJ)/%.o: %.c | deps-cc
 	@mkdir -p $(dir $@)
@@ -168,6 +179,56 @@ fuzz:
 # The main job until the playground exists: replay the default level headless.
 run: $(BUILD)/ntile
 	$(BUILD)/ntile run tests/replays/ninja.ntr
+
+# ---------------------------------------------------------------- install
+
+PREFIX ?= /usr/local
+DESTDIR ?=
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+HEADERS := $(wildcard include/ntile/*.h)
+# The version users see is the one the headers announce.
+VERSION := $(shell awk '$$2 ~ /^NT_VERSION_(MAJOR|MINOR|PATCH)$$/ { v = v (v == "" ? "" : ".") $$3 } END { print v }' \
+             include/ntile/base.h)
+# ntile.pc: paths under PREFIX are written relative to ${prefix}, so that pkg-config's
+# sysroot and prefix redefinition work; a library built with NT_DOUBLE=1 needs its
+# users to define NT_DOUBLE too.
+PC_LIBDIR = $(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))
+PC_INCLUDEDIR = $(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))
+PC_CFLAGS = -I$${includedir}$(if $(filter-out 0,$(NT_DOUBLE)), -DNT_DOUBLE)
+
+install: lib
+	install -d '$(DESTDIR)$(INCLUDEDIR)/ntile' '$(DESTDIR)$(LIBDIR)' '$(DESTDIR)$(PKGCONFIGDIR)'
+	install -m 644 $(HEADERS) '$(DESTDIR)$(INCLUDEDIR)/ntile/'
+	install -m 644 $(BUILD)/libntile.a '$(DESTDIR)$(LIBDIR)/libntile.a'
+	install -m 755 $(BUILD)/libntile.so.$(SOFULL) '$(DESTDIR)$(LIBDIR)/libntile.so.$(SOFULL)'
+	ln -sf libntile.so.$(SOFULL) '$(DESTDIR)$(LIBDIR)/libntile.so.$(SOVERSION)'
+	ln -sf libntile.so.$(SOVERSION) '$(DESTDIR)$(LIBDIR)/libntile.so'
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(PC_LIBDIR)' 'includedir=$(PC_INCLUDEDIR)' '' \
+	  'Name: ntile' \
+	  'Description: Deterministic 2D collision engine in the style of N: tile map, exact projections, world of boxes and circles' \
+	  'Version: $(VERSION)' 'Cflags: $(PC_CFLAGS)' 'Libs: -L$${libdir} -lntile' 'Libs.private: $(LIBS)' \
+	  > '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
+	chmod 644 '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
+
+# Removes the files install writes and the include/ntile directory when it is empty;
+# other directories stay (they may hold other packages' files).
+uninstall:
+	rm -f $(foreach h,$(notdir $(HEADERS)),'$(DESTDIR)$(INCLUDEDIR)/ntile/$(h)')
+	-rmdir '$(DESTDIR)$(INCLUDEDIR)/ntile' 2>/dev/null || true
+	rm -f $(foreach f,libntile.a libntile.so libntile.so.$(SOVERSION) libntile.so.$(SOFULL),'$(DESTDIR)$(LIBDIR)/$(f)')
+	rm -f '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
+
+check-install: lib deps-pkgconfig
+	@MAKE='$(MAKE)' CC='$(CC)' VERSION='$(VERSION)' tools/check-install.sh
+
+check-headers: $(BUILD)/libntile.a deps-cxx
+	@CC='$(CC)' CXX='$(CXX)' CWARN='$(filter-out -Werror,$(WARN))' LIB='$(BUILD)/libntile.a' tools/check-headers.sh
+
+# The picture in the README: the float build's sheet.
+sheet: $(BUILD)/ntile
+	$(BUILD)/ntile sheet -o tools/ntile/sheet.svg
 
 clean:
 	rm -rf build

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
-# Usage: tools/deps.sh FEATURE...   (features: cc, cmocka, clang, fuzzer, sdl2, xvfb, valgrind)
+# Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb, valgrind)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
 set -u
@@ -13,6 +13,7 @@ for f in "$@"; do
     case "$f" in
     cc) command -v "${CC:-cc}" >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || missing="$missing build-essential" ;;
     cmocka) have_header cmocka.h -lcmocka || missing="$missing libcmocka-dev" ;;
+    cxx) command -v "${CXX:-g++}" >/dev/null 2>&1 || missing="$missing g++" ;;
     clang) command -v clang >/dev/null 2>&1 || missing="$missing clang" ;;
     fuzzer) # libFuzzer comes with clang's runtime package, named after clang's major version
         if ! command -v clang >/dev/null 2>&1; then missing="$missing clang"
@@ -20,6 +21,7 @@ for f in "$@"; do
                 | clang -x c - -fsanitize=fuzzer -o /dev/null >/dev/null 2>&1; then
             missing="$missing libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
         fi ;;
+    pkgconfig) command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config" ;;
     sdl2) command -v sdl2-config >/dev/null 2>&1 || missing="$missing libsdl2-dev" ;;
     xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb" ;;
     valgrind) command -v valgrind >/dev/null 2>&1 || missing="$missing valgrind" ;;

@@ -38,4 +38,8 @@ void cli_convert_usage(FILE *f);
 int cli_read_file(const char *path, char **out, size_t *len, char *why, size_t why_cap);
 int cli_write_file(const char *path, const char *data, size_t len, char *why, size_t why_cap);
 
+/* `ntile sheet [-o FILE.svg]` (sheet.c): the gizmo answer key as SVG. */
+int cli_sheet(int argc, char **argv);
+void cli_sheet_usage(FILE *f);
+
 #endif

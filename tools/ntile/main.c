@@ -5,6 +5,7 @@
  *   ntile bench SCENE      time a part of the engine
  *   ntile run FILE.ntr...  replay levels headless and check their expectations
  *   ntile convert n14 FILE convert an N v1.4 level to .ntl
+ *   ntile sheet [-o FILE]  the answer-key sheet (SVG)
  *   ntile help             this text
  */
 #include <stdio.h>
@@ -21,6 +22,7 @@ static void usage(FILE *f)
     cli_bench_usage(f);
     cli_run_usage(f);
     cli_convert_usage(f);
+    cli_sheet_usage(f);
     fputs("  ntile help\n      This text (also --help, -h, or no arguments).\n", f);
 }
 
@@ -39,6 +41,7 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "bench") == 0) return cli_bench(argc - 1, argv + 1);
     if (strcmp(argv[1], "run") == 0) return cli_run(argc - 1, argv + 1);
     if (strcmp(argv[1], "convert") == 0) return cli_convert(argc - 1, argv + 1);
+    if (strcmp(argv[1], "sheet") == 0) return cli_sheet(argc - 1, argv + 1);
     fprintf(stderr, "ntile: unknown subcommand '%s'\n\n", argv[1]);
     usage(stderr);
     return CLI_USAGE;

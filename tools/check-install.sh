@@ -1,0 +1,99 @@
+#!/bin/sh
+# make check-install: install into a staging directory (DESTDIR + PREFIX), build the
+# embedding example against the installed copy through pkg-config only (never the
+# source tree), run it and check its answer, shared and static; then uninstall and
+# check that exactly what install put there went away.
+# Environment: MAKE, CC, VERSION (expected pkg-config version).
+set -u
+MAKE=${MAKE:-make}
+CC=${CC:-cc}
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAILED: $*"; }
+finish() { echo "check-install: $pass passed, $fail failed"; [ "$fail" -eq 0 ]; exit $?; }
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/ntile-install-XXXXXX") || exit 2
+trap 'rm -rf "$tmp"' EXIT
+stage=$tmp/stage
+prefix=/opt/ntile
+lib=$stage$prefix/lib
+inc=$stage$prefix/include
+# Files that were there before: uninstall must leave them, and their directories.
+mkdir -p "$lib/pkgconfig" "$inc"
+echo keep >"$lib/unrelated.txt"
+echo keep >"$lib/pkgconfig/other.pc"
+echo keep >"$inc/other.h"
+
+if $MAKE --no-print-directory -s install DESTDIR="$stage" PREFIX="$prefix" >"$tmp/log" 2>&1; then ok; else
+    bad "make install"; cat "$tmp/log"; finish; fi
+
+# What install puts there.
+for h in include/ntile/*.h; do
+    if cmp -s "$h" "$inc/ntile/${h##*/}"; then ok; else bad "header ${h##*/} not installed"; fi
+done
+[ -f "$lib/libntile.a" ] && ok || bad "libntile.a not installed"
+real=$(cd "$lib" && ls libntile.so.*.*.* 2>/dev/null | head -n 1)
+[ -n "$real" ] && [ -f "$lib/$real" ] && [ ! -L "$lib/$real" ] && ok || bad "no libntile.so.X.Y.Z"
+soname=$(readelf -d "$lib/$real" 2>/dev/null | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
+[ "$soname" = libntile.so.0 ] && ok || bad "soname is '$soname', want libntile.so.0"
+[ "$(readlink "$lib/libntile.so.0")" = "$real" ] && ok || bad "libntile.so.0 does not point to $real"
+[ -L "$lib/libntile.so" ] && [ "$(cd "$lib" && readlink -f libntile.so)" = "$(cd "$lib" && readlink -f "$real")" ] && ok ||
+    bad "libntile.so does not lead to $real"
+[ -f "$lib/pkgconfig/ntile.pc" ] && ok || bad "ntile.pc not installed"
+
+# pkg-config sees only the staged copy: the .pc names the final prefix, the sysroot
+# maps it into the staging directory.
+PKG_CONFIG_LIBDIR=$lib/pkgconfig
+PKG_CONFIG_PATH=$lib/pkgconfig
+PKG_CONFIG_SYSROOT_DIR=$stage
+export PKG_CONFIG_LIBDIR PKG_CONFIG_PATH PKG_CONFIG_SYSROOT_DIR
+if pkg-config --validate ntile 2>"$tmp/log"; then ok; else bad "ntile.pc does not validate"; cat "$tmp/log"; fi
+v=$(pkg-config --modversion ntile)
+[ "$v" = "${VERSION:-$v}" ] && ok || bad "pkg-config version '$v', want '$VERSION'"
+cflags=$(pkg-config --cflags ntile) libs=$(pkg-config --libs ntile) static=$(pkg-config --static --libs ntile)
+echo "pkg-config --cflags --libs ntile: $cflags $libs"
+case " $cflags " in *" -I$inc "*) ok ;; *) bad "cflags '$cflags' lack -I$inc" ;; esac
+case " $libs " in *" -L$lib "*"-lntile "*) ok ;; *) bad "libs '$libs' lack -L$lib -lntile" ;; esac
+case " $static " in *" -lm "*) ok ;; *) bad "static libs '$static' lack -lm" ;; esac
+
+# The example, as a user builds it, against the shared library ...
+check_run() { # $1 = binary, $2 = what
+    if "$1" >"$tmp/out" 2>"$tmp/err"; then ok; else bad "$2: the example failed"; cat "$tmp/err"; return; fi
+    # The floor's top is at y = 480 and the box's half-height 6; it rests a skin deep.
+    # (The README's shorter example does not print on_floor.)
+    if awk '/^box rests at / { found = 1; x = $4; y = $5; f = NF < 7 ? 1 : $7 }
+            END { exit !(found && x > 99.99 && x < 100.01 && y > 473.99 && y < 474.05 && f == 1) }' "$tmp/out"; then
+        ok; echo "$2: $(tail -n 1 "$tmp/out")"
+    else bad "$2: the box does not rest on the floor"; cat "$tmp/out"; fi
+}
+if $CC -std=c11 -Wall -Wextra -Wpedantic -Werror tools/embed-example/embed.c $cflags $libs -o "$tmp/embed" 2>"$tmp/log"; then
+    ok
+    readelf -d "$tmp/embed" | grep -q 'NEEDED.*\[libntile\.so\.0\]' && ok || bad "the example does not load libntile.so.0"
+    LD_LIBRARY_PATH=$lib check_run "$tmp/embed" "shared"
+else bad "building the example against the shared library"; cat "$tmp/log"; fi
+# ... and statically (pkg-config --static adds Libs.private).
+slibs=$(echo " $static " | sed 's/ -lntile / -Wl,-Bstatic -lntile -Wl,-Bdynamic /')
+if $CC -std=c11 -Wall -Wextra -Wpedantic -Werror tools/embed-example/embed.c $cflags $slibs -o "$tmp/embed-static" 2>"$tmp/log"; then
+    ok
+    readelf -d "$tmp/embed-static" | grep -q 'NEEDED.*libntile' && bad "the static example needs libntile.so" || ok
+    check_run "$tmp/embed-static" "static"
+else bad "building the example against the static library"; cat "$tmp/log"; fi
+
+# The README's 20-line example, exactly as printed there (the c block after the marker).
+awk '/<!-- make check-install builds this example -->/ { m = 1; next }
+     m && /^```c$/ { c = 1; next } c && /^```$/ { exit } c { print }' README.md >"$tmp/readme.c"
+if [ ! -s "$tmp/readme.c" ]; then
+    bad "README.md: no C example after '<!-- make check-install builds this example -->'"
+elif $CC -std=c11 -Wall -Wextra -Wpedantic -Werror "$tmp/readme.c" $cflags $libs -o "$tmp/readme" 2>"$tmp/log"; then
+    ok
+    LD_LIBRARY_PATH=$lib check_run "$tmp/readme" "README example"
+else bad "building the README's example"; cat "$tmp/log"; fi
+
+# Uninstall: the staged tree holds exactly the files that were there before.
+if $MAKE --no-print-directory -s uninstall DESTDIR="$stage" PREFIX="$prefix" >"$tmp/log" 2>&1; then ok; else
+    bad "make uninstall"; cat "$tmp/log"; fi
+left=$(cd "$stage" && find . ! -type d | sort | tr '\n' ' ')
+want="./opt/ntile/include/other.h ./opt/ntile/lib/pkgconfig/other.pc ./opt/ntile/lib/unrelated.txt "
+[ "$left" = "$want" ] && ok || bad "after uninstall: '$left', want '$want'"
+[ ! -e "$inc/ntile" ] && ok || bad "uninstall left $inc/ntile"
+finish
