@@ -202,6 +202,7 @@ install: lib
 	install -d '$(DESTDIR)$(INCLUDEDIR)/ntile' '$(DESTDIR)$(LIBDIR)' '$(DESTDIR)$(PKGCONFIGDIR)'
 	install -m 644 $(HEADERS) '$(DESTDIR)$(INCLUDEDIR)/ntile/'
 	install -m 644 $(BUILD)/libntile.a '$(DESTDIR)$(LIBDIR)/libntile.a'
+	install -m 644 $(GAME_LIB) '$(DESTDIR)$(LIBDIR)/libntile-game.a'
 	install -m 755 $(BUILD)/libntile.so.$(SOFULL) '$(DESTDIR)$(LIBDIR)/libntile.so.$(SOFULL)'
 	ln -sf libntile.so.$(SOFULL) '$(DESTDIR)$(LIBDIR)/libntile.so.$(SOVERSION)'
 	ln -sf libntile.so.$(SOVERSION) '$(DESTDIR)$(LIBDIR)/libntile.so'
@@ -217,14 +218,14 @@ install: lib
 uninstall:
 	rm -f $(foreach h,$(notdir $(HEADERS)),'$(DESTDIR)$(INCLUDEDIR)/ntile/$(h)')
 	-rmdir '$(DESTDIR)$(INCLUDEDIR)/ntile' 2>/dev/null || true
-	rm -f $(foreach f,libntile.a libntile.so libntile.so.$(SOVERSION) libntile.so.$(SOFULL),'$(DESTDIR)$(LIBDIR)/$(f)')
+	rm -f $(foreach f,libntile.a libntile-game.a libntile.so libntile.so.$(SOVERSION) libntile.so.$(SOFULL),'$(DESTDIR)$(LIBDIR)/$(f)')
 	rm -f '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
 
 check-install: lib deps-pkgconfig
 	@MAKE='$(MAKE)' CC='$(CC)' VERSION='$(VERSION)' tools/check-install.sh
 
-check-headers: $(BUILD)/libntile.a deps-cxx
-	@CC='$(CC)' CXX='$(CXX)' CWARN='$(filter-out -Werror,$(WARN))' LIB='$(BUILD)/libntile.a' tools/check-headers.sh
+check-headers: $(BUILD)/libntile.a $(GAME_LIB) deps-cxx
+	@CC='$(CC)' CXX='$(CXX)' CWARN='$(filter-out -Werror,$(WARN))' LIB='$(BUILD)/libntile.a' GAMELIB='$(GAME_LIB)' tools/check-headers.sh
 
 # The picture in the README: the float build's sheet.
 sheet: $(BUILD)/ntile

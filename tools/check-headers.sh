@@ -10,6 +10,7 @@ CC=${CC:-cc}
 CXX=${CXX:-g++}
 CWARN=${CWARN:--Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes}
 LIB=${LIB:-build/libntile.a}
+GAMELIB=${GAMELIB:-build/libntile-game.a}
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/ntile-headers-XXXXXX") || exit 2
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
@@ -34,6 +35,7 @@ check() { # $1 = what, then the command
 
 all_probes=""
 for h in include/ntile/*.h; do
+    [ "$h" = include/ntile/game.h ] && continue # the game layer is not in the umbrella header
     p=$(probe "$h")
     [ -n "$p" ] && all_probes="$all_probes $p"
 done
@@ -51,8 +53,10 @@ for h in include/ntile/*.h; do
         for p in $probes; do printf '    { decltype(&%s) volatile f = &%s; n += f != nullptr; }\n' "$p" "$p"; done
         printf '    return n > 0 ? 0 : 1;\n}\n'
     } >"$tmp/cxx.cc"
+    libs="$LIB"
+    [ "$name" = ntile/game.h ] && libs="$GAMELIB $LIB" # its own library, on top of the engine
     check "$name as C++11 (compile and link: extern \"C\")" \
-        $CXX -std=c++11 -Wall -Wextra -Wpedantic -Werror -Iinclude "$tmp/cxx.cc" "$LIB" -lm -o "$tmp/cxx"
+        $CXX -std=c++11 -Wall -Wextra -Wpedantic -Werror -Iinclude "$tmp/cxx.cc" $libs -lm -o "$tmp/cxx"
 done
 echo "check-headers: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -32,6 +32,7 @@ for h in include/ntile/*.h; do
     if cmp -s "$h" "$inc/ntile/${h##*/}"; then ok; else bad "header ${h##*/} not installed"; fi
 done
 [ -f "$lib/libntile.a" ] && ok || bad "libntile.a not installed"
+[ -f "$lib/libntile-game.a" ] && ok || bad "libntile-game.a (the game layer, include/ntile/game.h) not installed"
 real=$(cd "$lib" && ls libntile.so.*.*.* 2>/dev/null | head -n 1)
 [ -n "$real" ] && [ -f "$lib/$real" ] && [ ! -L "$lib/$real" ] && ok || bad "no libntile.so.X.Y.Z"
 soname=$(readelf -d "$lib/$real" 2>/dev/null | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
