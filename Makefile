@@ -64,7 +64,7 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test deps-cxx deps-pkgconfig \
+.PHONY: all lib cli test asan valgrind determinism fuzz soak run clean deps-cc deps-test deps-cxx deps-pkgconfig \
         install uninstall check-install check-headers sheet
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
@@ -175,6 +175,13 @@ fuzz:
 	    || { tail -40 build/fuzz/$$n.log; echo "fuzz $$n: FAILED (inputs in build/fuzz/crash_$$n-*)"; exit 1; }; \
 	  grep -E "stat::number_of_executed_units|stat::peak_rss" build/fuzz/$$n.log | tr '\n' ' '; echo; \
 	done
+
+# The long soak: the rain scene checked after every step (`ntile soak`; a 10,000-step
+# version runs in make test). Takes tens of minutes at the defaults.
+SOAK_STEPS ?= 1000000
+SOAK_BODIES ?= 10000
+soak: $(BUILD)/ntile
+	$(BUILD)/ntile soak --steps $(SOAK_STEPS) --bodies $(SOAK_BODIES)
 
 # The main job until the playground exists: replay the default level headless.
 run: $(BUILD)/ntile

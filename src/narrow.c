@@ -147,6 +147,15 @@ static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
         }
         if (!(sl > 0 ? open_l : open_r)) return NT__MASKED;
         return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);
+    } else if (px != c.x && py != c.y) {
+        /* A corner of B (a tile vertex). Where one of its two faces is a seam, the
+         * neighbour's solid continues the other face past the corner: the corner is
+         * no corner of the union, and its push would be a sideways bump. Push off the
+         * other face's line instead (as far as the corner's push, or further). */
+        int v_open = sl > 0 ? open_l : open_r, h_open = st > 0 ? open_t : open_b;
+        if (!v_open && !h_open) return NT__MASKED;
+        if (!v_open) return push_out(r - nt__max(st, sb), 0, st > 0 ? R(-1) : R(1), 0, 0, out);
+        if (!h_open) return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);
     }
     nt_real vx = c.x - px, vy = c.y - py;
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
@@ -250,6 +259,16 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
     nt_real vx = x - px, vy = y - py;
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
     if (dist >= r) return NT__SEPARATE;
+    /* A corner next to a seam face is no corner of the union (the neighbour continues
+     * the surface): push off the line of the surface that goes on instead. The arc's
+     * tangent is horizontal at (0,0) and vertical at (1,1). */
+    if (px == 0 && py == 0 && k.mleft) return push_out(r + y, 0, -1, k.fx, k.fy, out);
+    if (px == 1 && py == 1 && k.mbottom) return push_out(r - (x - 1), 1, 0, k.fx, k.fy, out);
+    if (px == 0 && py == 1 && (k.mleft || k.mbottom)) {
+        if (k.mleft && k.mbottom) return NT__MASKED;
+        if (k.mleft) return push_out(r - (y - 1), 0, 1, k.fx, k.fy, out);
+        return push_out(r + x, -1, 0, k.fx, k.fy, out);
+    }
     return push_out(r - dist, vx / dist, vy / dist, k.fx, k.fy, out);
 }
 
@@ -330,9 +349,11 @@ static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
     cand_if(&q, !k.mbottom, 1 + r - y, 0, 1);
     cand_if(&q, !k.mleft, x + r, -1, 0);
     cand(&q, 1 + r - x, 1, 0);
-    if (y <= 0) cand_vertex(&q, x, y, 0, 0, r);
-    if (x >= 1) cand_vertex(&q, x, y, 1, 1, r);
-    if (x <= 0 && y >= 1) cand_vertex(&q, x, y, 0, 1, r);
+    /* A vertex next to a seam face is no vertex of the union: the lines of the
+     * surfaces that go on past it (listed above) stand for it. */
+    if (y <= 0 && !k.mleft) cand_vertex(&q, x, y, 0, 0, r);
+    if (x >= 1 && !k.mbottom) cand_vertex(&q, x, y, 1, 1, r);
+    if (x <= 0 && y >= 1 && !k.mleft && !k.mbottom) cand_vertex(&q, x, y, 0, 1, r);
     return pick(&q, k.fx, k.fy, out);
 }
 

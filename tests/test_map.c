@@ -341,6 +341,33 @@ static void test_resolve_joined_22_slope(void **state)
     nt_map_destroy(m);
 }
 
+/* A circle resting on a flat floor across the seam of two FULL tiles, far from the
+ * origin (where float's rounding tolerance is coarse): the tiles' corners at the
+ * seam are no corners of the floor, so the push is straight up everywhere. */
+static void test_resolve_seam_far_from_origin(void **state)
+{
+    (void)state;
+    nt_map_def d = nt_default_map_def();
+    d.width = d.height = 4096;
+    nt_map *m = NULL;
+    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    int ox = 4080, oy = 4090;
+    for (int x = 0; x < 10; x++) assert_int_equal(nt_map_set_tile(m, ox + x, oy, NT_TILE_FULL), NT_OK);
+    int pushes = 0;
+    for (int k = -40; k <= 40; k++) {
+        nt_real x = R((ox + 5) * 24.0 + k * 0.05), y = R(oy * 24.0 - 7 + 0.09);
+        nt_resolution r;
+        if (!nt_map_resolve(m, nt_v2(x, y), nt_shape_circle(7), &r)) continue;
+        pushes++;
+        if (r.push.x != 0 || !(r.push.y < 0)) {
+            print_error("seam offset %g: push (%g, %g)\n", k * 0.05, (double)r.push.x, (double)r.push.y);
+            fail();
+        }
+    }
+    assert_int_equal(pushes, 81);
+    nt_map_destroy(m);
+}
+
 /* Inside an L-shaped corner (floor + wall) the way out is the corner point. */
 static void test_resolve_concave_corner(void **state)
 {
@@ -472,6 +499,7 @@ int main(void)
         cmocka_unit_test(test_resolve_flat_floor_seams),
         cmocka_unit_test(test_resolve_slope_to_floor),
         cmocka_unit_test(test_resolve_joined_22_slope),
+        cmocka_unit_test(test_resolve_seam_far_from_origin),
         cmocka_unit_test(test_resolve_concave_corner),
         cmocka_unit_test(test_resolve_free_and_border),
         cmocka_unit_test(test_resolve_vs_union_reference),

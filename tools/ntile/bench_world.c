@@ -85,7 +85,8 @@ static void sparse_tiles(uint8_t *t, int side, uint64_t *rng)
         t[bench_rng_next(rng) % ((uint64_t)side * (uint64_t)side)] = (uint8_t)(1 + bench_rng_next(rng) % 33);
 }
 
-static nt_world *build(const scene_cfg *c)
+/* Build a scene; ids (may be NULL) receives the c->bodies handles in creation order. */
+static nt_world *build(const scene_cfg *c, nt_body_id *ids)
 {
     uint64_t rng = 0x7261696Eull + (uint64_t)c->bodies; /* "rain" */
     nt_world_def d = nt_default_world_def();
@@ -169,6 +170,7 @@ static nt_world *build(const scene_cfg *c)
         }
         nt_body_id id;
         if (!world_or_die(nt_body_create(world, &b, &id), "nt_body_create")) goto fail;
+        if (ids) ids[i] = id;
     }
     free(tiles);
     free(used);
@@ -193,7 +195,7 @@ static scene_result run_scene(const bench_opts *opts, const scene_cfg *c)
     double *per = malloc(sizeof(double) * (size_t)opts->runs);
     if (!per) return res;
     for (int r = 0; r < opts->runs; r++) {
-        nt_world *w = build(c);
+        nt_world *w = build(c, NULL);
         if (!w || !step_n(w, c->warm_steps)) {
             nt_world_destroy(w);
             free(per);
@@ -291,4 +293,10 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
         print_result(name, &r, &c, opts);
     }
     return CLI_OK;
+}
+
+nt_world *bench_rain_world(int bodies, nt_body_id *ids)
+{
+    scene_cfg c = rain_cfg("rain", bodies, 0xFFFFFFFFu);
+    return build(&c, ids);
 }

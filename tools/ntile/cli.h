@@ -21,6 +21,10 @@ int cli_query(int argc, char **argv);
 int cli_query_buffer(const void *buf, size_t len, FILE *out, size_t max_line);
 void cli_query_usage(FILE *f);
 
+/* `ntile soak [--steps N] [--bodies N]` (soak.c): the long-run checks. */
+int cli_soak(int argc, char **argv);
+void cli_soak_usage(FILE *f);
+
 /* `ntile bench SCENE [OPTIONS]` (bench.c). */
 int cli_bench(int argc, char **argv);
 void cli_bench_usage(FILE *f);

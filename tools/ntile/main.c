@@ -20,6 +20,7 @@ static void usage(FILE *f)
     fputs("usage: ntile SUBCOMMAND [ARGS...]\n\n", f);
     cli_query_usage(f);
     cli_bench_usage(f);
+    cli_soak_usage(f);
     cli_run_usage(f);
     cli_convert_usage(f);
     cli_sheet_usage(f);
@@ -39,6 +40,7 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "query") == 0) return cli_query(argc - 1, argv + 1);
     if (strcmp(argv[1], "bench") == 0) return cli_bench(argc - 1, argv + 1);
+    if (strcmp(argv[1], "soak") == 0) return cli_soak(argc - 1, argv + 1);
     if (strcmp(argv[1], "run") == 0) return cli_run(argc - 1, argv + 1);
     if (strcmp(argv[1], "convert") == 0) return cli_convert(argc - 1, argv + 1);
     if (strcmp(argv[1], "sheet") == 0) return cli_sheet(argc - 1, argv + 1);
