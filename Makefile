@@ -6,6 +6,11 @@
 #   make run             the quick-start demonstration
 #   make NT_DOUBLE=1 …   everything with double as the scalar type
 #   make CC=clang OPT=-O3 …  any compiler / optimisation level
+#   make bench           the world scenes: ns per body-step and error metrics, scaling
+#   make bench-sweep     run time against error: dt, substeps, iterations, friction model,
+#                        float and double (CSV + SVG in build/sweep/)
+#   make bench-peers     the same scenes in Chipmunk2D 7 and Box2D 2.4 (Debian's
+#                        libchipmunk-dev and libbox2d-dev, installed when missing)
 #
 # Replays must be bit-identical across optimisation levels and compilers, so the
 # floating-point flags are fixed: -ffp-contract=off always, never -ffast-math.
@@ -52,7 +57,7 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan determinism run clean deps-cc deps-test
+.PHONY: all lib cli test asan determinism run clean deps-cc deps-test bench bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -116,6 +121,44 @@ determinism:
 	  $$b/tests/test_world 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/test_world; exit 1; }; \
 	  $$b/tests/test_world 2>&1 | grep 'golden hash'; \
 	done; done; done
+
+# ---- benchmarks: figures measured on the machine that runs them (RUNS >= 5) ----
+RUNS ?= 5
+bench: $(BUILD)/ntile
+	$(BUILD)/ntile bench world --runs $(RUNS)
+	$(BUILD)/ntile bench scaling --runs $(RUNS)
+
+# The sweep needs both scalar types: each binary measures its own points, then the
+# float one merges the CSVs, finds the Pareto front and draws the SVG.
+SWEEP_DIR ?= $(BUILD)/sweep
+bench-sweep: $(BUILD)/ntile
+	@$(MAKE) --no-print-directory NT_DOUBLE=1 BUILD=$(BUILD)/double-bench $(BUILD)/double-bench/ntile
+	@mkdir -p $(SWEEP_DIR)
+	$(BUILD)/ntile bench sweep --runs $(RUNS) --out $(SWEEP_DIR)/float.csv
+	$(BUILD)/double-bench/ntile bench sweep --runs $(RUNS) --out $(SWEEP_DIR)/double.csv
+	$(BUILD)/ntile bench plot $(SWEEP_DIR)/float.csv $(SWEEP_DIR)/double.csv --out $(SWEEP_DIR)/sweep
+
+# Peers: C for everything but the one C++ shim Box2D 2.4 needs (compiled with CXX).
+CXX ?= g++
+PEER_SRC := $(wildcard tools/bench-peers/*.c)
+PEER_OBJ := $(PEER_SRC:%.c=$(OBJ)/%.o) $(OBJ)/tools/bench-peers/box2d_shim.o
+BENCH_SHARED_OBJ := $(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o engine_ntile.o bench_run.o bench_common.o)
+deps-peers:
+	@tools/deps.sh cc cxx chipmunk box2d
+
+$(OBJ)/tools/bench-peers/%.o: tools/bench-peers/%.c | deps-peers
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Itools/ntile -MMD -MP -c $< -o $@
+
+$(OBJ)/tools/bench-peers/box2d_shim.o: tools/bench-peers/box2d_shim.cpp | deps-peers
+	@mkdir -p $(dir $@)
+	$(CXX) -std=c++11 $(OPT) $(WARN) -ffp-contract=off -MMD -MP -c $< -o $@
+
+$(BUILD)/bench-peers: $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a
+	$(CXX) $(LDFLAGS_ALL) -o $@ $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a -lchipmunk -lbox2d $(LIBS)
+
+bench-peers: deps-peers $(BUILD)/bench-peers
+	$(BUILD)/bench-peers --runs $(RUNS)
 
 run: $(BUILD)/ntile
 	$(BUILD)/ntile query levels/demo.query

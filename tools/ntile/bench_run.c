@@ -41,57 +41,47 @@ run_result bench_run(const engine *e, const engine_setting *set, const scene *s,
     double start = bench_now_ns();
     res.bodies = s->nbodies;
     res.steps = s->steps;
-    double *per = malloc(sizeof(double) * (size_t)(runs > 0 ? runs : 1));
-    if (!per) return res;
-    for (int r = 0; r < runs; r++) {
+    if (runs < 1) runs = 1;
+    double *per = malloc(sizeof(double) * (size_t)runs);
+    body_state *st = malloc(sizeof *st * (size_t)(s->nbodies > 0 ? s->nbodies : 1));
+    metrics_tracker *t = with_metrics ? metrics_begin(s) : NULL;
+    int ok = per && st && (!with_metrics || t);
+    for (int r = 0; r < runs && ok; r++) {
+        /* the first run also feeds the metrics: only the steps are timed */
+        metrics_tracker *tr = r == 0 ? t : NULL;
         int warm = 0;
-        void *w = warmed(e, set, s, &warm, NULL, NULL);
+        void *w = warmed(e, set, s, &warm, tr, st);
         if (!w) {
-            free(per);
-            return res;
+            ok = 0;
+            break;
         }
-        int ok = 1;
-        double t0 = bench_now_ns();
-        for (int k = 0; k < s->steps && ok; k++) ok = e->step(w);
-        double t1 = bench_now_ns();
+        double elapsed = 0;
+        for (int k = 0; k < s->steps && ok; k++) {
+            double t0 = bench_now_ns();
+            ok = e->step(w);
+            elapsed += bench_now_ns() - t0;
+            if (tr) {
+                e->read(w, st);
+                metrics_step(tr, st);
+            }
+        }
         res.awake = e->awake(w);
         res.warm = warm;
         e->destroy(w);
-        if (!ok) {
-            free(per);
-            return res;
-        }
-        per[r] = (t1 - t0) / ((double)(s->nbodies > 0 ? s->nbodies : 1) * (double)s->steps);
+        per[r] = elapsed / ((double)(s->nbodies > 0 ? s->nbodies : 1) * (double)s->steps);
     }
-    if (runs > 0) {
+    if (ok) {
         qsort(per, (size_t)runs, sizeof *per, bench_cmp_double);
         res.ns = runs % 2 ? per[runs / 2] : (per[runs / 2 - 1] + per[runs / 2]) / 2;
         res.ns_min = per[0];
         res.ns_max = per[runs - 1];
+        if (t) res.m = metrics_get(t);
+        res.ok = 1;
     }
+    metrics_end(t);
     free(per);
-    if (with_metrics) {
-        metrics_tracker *t = metrics_begin(s);
-        body_state *st = malloc(sizeof *st * (size_t)(s->nbodies > 0 ? s->nbodies : 1));
-        int warm = 0, ok = t && st;
-        void *w = ok ? warmed(e, set, s, &warm, t, st) : NULL;
-        ok = ok && w;
-        for (int k = 0; k < s->steps && ok; k++) {
-            ok = e->step(w);
-            e->read(w, st);
-            metrics_step(t, st);
-        }
-        if (ok) res.m = metrics_get(t);
-        if (w) {
-            if (runs == 0) res.awake = e->awake(w), res.warm = warm;
-            e->destroy(w);
-        }
-        metrics_end(t);
-        free(st);
-        if (!ok) return res;
-    }
+    free(st);
     res.wall_s = (bench_now_ns() - start) * 1e-9;
-    res.ok = 1;
     return res;
 }
 
@@ -115,21 +105,21 @@ static const char *analytic(char *buf, size_t n, const metrics *m)
 
 void bench_print_header(const char *first)
 {
-    printf("%-18s %7s %7s %10s %7s %9s %9s %6s %9s %8s %9s %12s\n", first, "bodies", "awake", "ns/body-step",
+    printf("%-26s %7s %7s %10s %7s %9s %9s %6s %9s %8s %9s %12s\n", first, "bodies", "awake", "ns/body-step",
            "spread", "pen", "overlap", "tunnel", "ghost", "energy", "jitter", "analytic");
 }
 
-void bench_print_row(const char *label, const run_result *r)
+void bench_print_row(const char *label, const run_result *r, const char *extra)
 {
     char a[32], b[32], c[32], d[32], e[32];
     const metrics *m = &r->m;
     char ghost[32];
     if (m->ghost_bumps < 0) snprintf(ghost, sizeof ghost, "-");
     else snprintf(ghost, sizeof ghost, "%d", m->ghost_bumps);
-    printf("%-18s %7d %7d %10.2f %6.1f%% %9s %9s %6d %9s %8s %9s %12s\n", label, r->bodies, r->awake, r->ns,
+    printf("%-26s %7d %7d %10.2f %6.1f%% %9s %9s %6d %9s %8s %9s %12s%s\n", label, r->bodies, r->awake, r->ns,
            run_spread(r), fig(a, sizeof a, "%.2g", m->penetration), fig(b, sizeof b, "%.2g", m->overlap), m->tunnelled,
            ghost, fig(c, sizeof c, "%.2g", m->energy_drift), fig(d, sizeof d, "%.2g", m->jitter),
-           analytic(e, sizeof e, m));
+           analytic(e, sizeof e, m), extra ? extra : "");
 }
 
 void bench_print_legend(void)

@@ -38,7 +38,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
            SCALAR_NAME, opts->runs);
     bench_print_legend();
     bench_print_header("scene");
-    engine_setting none = {"ntile", 0, 0, 1, -1};
+    engine_setting none = {"ntile", 0, 0, 1, -1, 0};
     for (int k = 0; k < nall; k++) {
         int wanted = nargs == 0;
         for (int i = 0; i < nargs; i++) wanted |= strcmp(args[i], all[k]) == 0;
@@ -56,7 +56,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
                 scene_free(&s);
                 if (!r.ok) return CLI_USAGE;
                 r.m = (metrics){-1, -1, 0, -1, -1, -1, -1, -1, -1, -1, -1, -1};
-                bench_print_row(labels[j], &r);
+                bench_print_row(labels[j], &r, NULL);
                 lo = r.ns < lo ? r.ns : lo;
                 hi = r.ns > hi ? r.ns : hi;
             }
@@ -73,7 +73,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
         run_result r = bench_run(&engine_ntile, &none, &s, opts->runs, 1);
         scene_free(&s);
         if (!r.ok) return CLI_USAGE;
-        bench_print_row(name, &r);
+        bench_print_row(name, &r, NULL);
         fflush(stdout);
     }
     return CLI_OK;

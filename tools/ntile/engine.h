@@ -14,6 +14,7 @@ typedef struct engine_setting {
     int position_iterations;  /* Box2D only; 0: the default */
     int substeps;             /* world steps per scene step (of dt / substeps); 0 or 1: one */
     double slop;              /* allowed overlap in cells (Chipmunk collision slop); < 0: the default */
+    int no_ccd;               /* Box2D: continuous collision off (on by default) */
 } engine_setting;
 
 typedef struct engine {
@@ -32,8 +33,8 @@ typedef struct engine {
 /* The ntile engine (engine_ntile.c). */
 extern const engine engine_ntile;
 
-/* One scene run on one engine: the timing of `runs` runs and the error metrics of one
- * more (untimed, identical) run. */
+/* One scene run on one engine: the timing of `runs` runs; the first also reads every
+ * body after every step for the error metrics (outside the timed calls). */
 typedef struct run_result {
     int ok;
     double ns, ns_min, ns_max; /* ns per body-step: median, smallest, largest over the runs */
@@ -42,9 +43,9 @@ typedef struct run_result {
     metrics m;
 } run_result;
 
-/* Run scene s on engine e: `runs` timed runs (each builds the scene anew, warms up,
- * times s->steps steps), then when with_metrics one run that reads every body after
- * every step into the metrics. */
+/* Run scene s on engine e: `runs` runs, each building the scene anew, warming up and
+ * timing the s->steps calls of step (each call timed alone); with_metrics: the first
+ * run's states go through the metrics. */
 run_result bench_run(const engine *e, const engine_setting *set, const scene *s, int runs, int with_metrics);
 
 /* Spread of a result in percent: (largest - smallest) / 2 / median. */
@@ -53,6 +54,6 @@ double run_spread(const run_result *r);
 /* The results table: legend, header (first column titled `first`), one row. */
 void bench_print_legend(void);
 void bench_print_header(const char *first);
-void bench_print_row(const char *label, const run_result *r);
+void bench_print_row(const char *label, const run_result *r, const char *extra); /* extra: appended, or NULL */
 
 #endif

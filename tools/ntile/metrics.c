@@ -253,9 +253,11 @@ metrics metrics_get(const metrics_tracker *t)
             const scene_body *b = &s->bodies[i];
             if (b->role != ROLE_FLIGHT) continue;
             double ex = b->vx * time + 0.5 * s->gx * time * time, ey = b->vy * time + 0.5 * s->gy * time * time;
-            double travel = hypot(ex, ey);
-            if (travel > 0)
-                m.flight_error = maxd(m.flight_error, hypot(t->prev[i].x - b->x - ex, t->prev[i].y - b->y - ey) / travel);
+            /* relative to the fall g t^2 / 2 (the part integrators get wrong), else to the travel */
+            double scale = 0.5 * hypot(s->gx, s->gy) * time * time;
+            if (scale == 0) scale = hypot(ex, ey);
+            if (scale > 0)
+                m.flight_error = maxd(m.flight_error, hypot(t->prev[i].x - b->x - ex, t->prev[i].y - b->y - ey) / scale);
         }
     }
     for (int i = 0; i < t->n; i++) /* an apex that never came is a 100 % error */

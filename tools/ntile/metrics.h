@@ -19,6 +19,7 @@
  *   analytic     relative errors: bounce apex heights against e^(2n) h0 (first 3 apexes),
  *                incline acceleration (velocity change from rest_from to the end) against
  *                g (sin - mu cos), free flight: the displacement at the end against v0 t + g t^2 / 2
+ *                (relative to g t^2 / 2)
  * A value is -1 where the scene has no body it applies to.
  */
 #ifndef NTILE_BENCH_METRICS_H
