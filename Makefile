@@ -89,14 +89,17 @@ $(BUILD)/libntile.so: $(BUILD)/libntile.so.$(SOFULL)
 $(BUILD)/ntile: $(CLI_OBJ) $(BUILD)/libntile.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(BUILD)/libntile.a $(LIBS)
 
-# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers.
-$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(BUILD)/libntile.a | deps-test
+# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
+# (test_bench also with the benchmark's metric, scene, outline and plot code).
+TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o))
+.SECONDEXPANSION:
+$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $$(TEST_EXTRA_OBJ) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(BUILD)/libntile.a -lcmocka $(LIBS)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(TEST_EXTRA_OBJ) $(BUILD)/libntile.a -lcmocka $(LIBS)
 
 $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Isrc -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_ALL) -Isrc -Itools/ntile -MMD -MP -c $< -o $@
 
 test: deps-test $(TEST_BIN) $(BUILD)/ntile
 	@pass=0; fail=0; for t in $(TEST_BIN); do \
@@ -142,7 +145,7 @@ bench-sweep: $(BUILD)/ntile
 CXX ?= g++
 PEER_SRC := $(wildcard tools/bench-peers/*.c)
 PEER_OBJ := $(PEER_SRC:%.c=$(OBJ)/%.o) $(OBJ)/tools/bench-peers/box2d_shim.o
-BENCH_SHARED_OBJ := $(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o engine_ntile.o bench_run.o bench_common.o)
+BENCH_SHARED_OBJ := $(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o engine_ntile.o bench_run.o bench_common.o geometry.o)
 deps-peers:
 	@tools/deps.sh cc cxx chipmunk box2d
 

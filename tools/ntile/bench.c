@@ -174,14 +174,18 @@ typedef struct bench_scene {
 
 static const bench_scene scenes[] = {
     {"narrow", "ns per AABB-vs-tile and circle-vs-tile test over the 33 solid tiles", bench_narrow},
-    {"world", "ns per body-step of world scenes: bench world [rain pile particles sparse asleep scale]",
+    {"world", "ns per body-step and error metrics of world scenes (tools/ntile/scene.c): bench world [SCENE...]",
      bench_world},
+    {"scaling", "ns per body-step at 1k/10k/100k bodies, memory per body and cell, skipping ratios",
+     bench_scaling},
+    {"sweep", "run time against error over dt, substeps, iterations, friction model: --out FILE.csv", bench_sweep},
+    {"plot", "Pareto front and SVG of sweep CSVs: bench plot FILE.csv... --out PREFIX", bench_plot},
 };
 #define SCENE_COUNT (sizeof scenes / sizeof scenes[0])
 
 void cli_bench_usage(FILE *f)
 {
-    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS]\n"
+    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS] [--out PATH]\n"
           "      Time a part of the engine: median of N runs (default 7), each lasting at\n"
           "      least MS milliseconds (default 20). Scenes:\n",
           f);
@@ -223,7 +227,7 @@ int cli_bench(int argc, char **argv)
         fprintf(stderr, "ntile bench: unknown benchmark '%s'\n", argv[1]);
         return bench_usage_error();
     }
-    bench_opts opts = {7, 20};
+    bench_opts opts = {7, 20, NULL};
     char **words = malloc(sizeof(char *) * (size_t)argc);
     int nwords = 0;
     if (!words) return CLI_USAGE;
@@ -242,6 +246,13 @@ int cli_bench(int argc, char **argv)
                 return bench_usage_error();
             }
             opts.min_ms = v;
+        } else if (strcmp(argv[i], "--out") == 0) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "ntile bench: --out needs a path\n");
+                free(words);
+                return bench_usage_error();
+            }
+            opts.out = argv[++i];
         } else if (argv[i][0] == '-') {
             fprintf(stderr, "ntile bench %s: unknown option '%s'\n", scene->name, argv[i]);
             free(words);

@@ -26,6 +26,10 @@
  *              sleep off): motion of bodies that should be at rest
  *   tunnel     small bodies fired at 2, 3 and 4 cells per step at each of the 33 solid
  *              tiles from 8 directions (no gravity)
+ * Skipping scenes (tiles only, sleep off, 10,000 bodies):
+ *   free       bodies drifting (no gravity) through an empty 256 x 256 map: nothing near
+ *   touching   bodies resting on floors (a FULL row every other row), each on one
+ *              FULL tile
  */
 #include "scene.h"
 #include <math.h>
@@ -33,8 +37,8 @@
 #include <string.h>
 #include "bench.h"
 
-const char *const scene_names[] = {"rain",  "particles", "sparse", "pile",   "asleep", "slide", "bounce",
-                                   "gas",   "incline",   "flight", "rest",   "tunnel", NULL};
+const char *const scene_names[] = {"rain",   "particles", "sparse", "pile", "asleep", "slide",    "bounce", "gas",
+                                   "incline", "flight",  "rest",   "tunnel", "free", "touching", NULL};
 
 static const double CELL = 24, GRAVITY = 320, DT = 1.0 / 40;
 
@@ -483,10 +487,39 @@ static int make_tunnel(scene *s)
     return 1;
 }
 
+/* free: an empty map, slow drift; touching: every body rests on a floor. */
+static int make_skip(scene *s, int n, int touching)
+{
+    int side = (int)ceil(sqrt(2.0 * n)) + 2;
+    if (!scene_init(s, touching ? "touching" : "free",
+                    touching ? "bodies resting on floors, tiles only" : "bodies drifting through an empty map, tiles only",
+                    side, side, n))
+        return 0;
+    uint64_t rng = 0x736B6970ull; /* "skip" */
+    s->sleep = 0;
+    s->steps = 120;
+    if (!touching) s->gy = 0;
+    for (int y = 2; touching && y < side; y += 2)
+        for (int x = 0; x < side; x++) set_tile(s, x, y, NT_TILE_FULL);
+    int per_row = side - 2;
+    for (int i = 0; i < n; i++) {
+        int x = 1 + i % per_row, row = i / per_row;
+        double half = bench_rng_range(&rng, 0.2, 0.4) * CELL;
+        double y = touching ? (2.0 * row + 2) * CELL - half : (row + 0.5) * CELL;
+        double vx = touching ? 0 : bench_rng_range(&rng, -0.5, 0.5) * CELL;
+        scene_body *b = add_body(s, i & 1, half, (x + 0.5) * CELL, y, vx, 0);
+        b->collide_bodies = 0;
+        b->bounce = 0;
+    }
+    return 1;
+}
+
 int scene_default_bodies(const char *name)
 {
     if (strcmp(name, "pile") == 0 || strcmp(name, "asleep") == 0) return 3000;
-    if (strcmp(name, "rain") == 0 || strcmp(name, "particles") == 0 || strcmp(name, "sparse") == 0) return 10000;
+    if (strcmp(name, "rain") == 0 || strcmp(name, "particles") == 0 || strcmp(name, "sparse") == 0 ||
+        strcmp(name, "free") == 0 || strcmp(name, "touching") == 0)
+        return 10000;
     return 0;
 }
 
@@ -532,5 +565,6 @@ int scene_make(const char *name, int n, scene *out)
     if (strcmp(name, "flight") == 0) return make_flight(out);
     if (strcmp(name, "rest") == 0) return make_rest(out);
     if (strcmp(name, "tunnel") == 0) return make_tunnel(out);
+    if (strcmp(name, "free") == 0 || strcmp(name, "touching") == 0) return make_skip(out, nn, name[0] == 't');
     return 0;
 }
