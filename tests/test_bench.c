@@ -306,7 +306,7 @@ static void test_svg(void **state)
     assert_int_equal(count(buf, "<g>"), 2);
     assert_int_equal(count(buf, "</g>"), 2);
     assert_int_equal(count(buf, "<polyline"), 2); /* a front per panel */
-    assert_int_equal(count(buf, "&lt;3&gt; &amp; co"), 2);
+    assert_true(count(buf, "&lt;3&gt; &amp; co") >= 2);
     assert_null(strstr(buf, "<3>"));
     free(buf);
 }

@@ -99,7 +99,7 @@ static int tune(int runs, int bodies)
             int count = p == 0 ? (int)(sizeof cp_try / sizeof cp_try[0]) : (int)(sizeof b2_try / sizeof b2_try[0]);
             for (int i = 0; i < count; i++) {
                 run_result r = bench_run(peers[p].e, &list[i], &s, runs, 1);
-                char label[64], desc[200];
+                char label[128], desc[200];
                 snprintf(label, sizeof label, "%s %s", peers[p].e->name, list[i].label);
                 print_setting(peers[p].e, &list[i], desc, sizeof desc);
                 int match = r.m.penetration <= nt.m.penetration && r.m.tunnelled <= nt.m.tunnelled;
@@ -176,7 +176,7 @@ int main(int argc, char **argv)
         }
         run_result nt = bench_run(&engine_ntile, &none, &s, runs, 1);
         if (!nt.ok) return 2;
-        char label[64];
+        char label[128];
         snprintf(label, sizeof label, "%s ntile", names[k]);
         bench_print_row(label, &nt, NULL);
         for (int p = 0; p < NPEERS; p++)

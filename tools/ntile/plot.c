@@ -73,6 +73,16 @@ static void panel_svg(FILE *f, const plot_panel *pn, double ox, const char *cons
                 "<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
                 "font-size=\"11\" text-anchor=\"middle\">1e%g</text>\n",
                 PX(d), MARGIN_T, PX(d), MARGIN_T + h, PX(d), MARGIN_T + h + 16, d);
+    /* minor ticks at 2..9 x 10^d, labelled at 2 and 5 when an axis spans few decades */
+    for (double d = lx0; d < lx1; d++)
+        for (int m = 2; m < 10; m++) {
+            double lx = d + log10(m);
+            fprintf(f, "<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#f0f0f0\"/>\n", PX(lx), MARGIN_T,
+                    PX(lx), MARGIN_T + h);
+            if ((m == 2 || m == 5) && lx1 - lx0 <= 2)
+                fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"10\" text-anchor=\"middle\">%g</text>\n", PX(lx),
+                        MARGIN_T + h + 16, m * pow(10, d));
+        }
     for (double d = ly0; d <= ly1 + 1e-9; d++)
         fprintf(f,
                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
@@ -112,6 +122,13 @@ static void panel_svg(FILE *f, const plot_panel *pn, double ox, const char *cons
                 PY(log10(p->y)), c, p->front ? c : "none");
         put_text(f, p->label);
         fprintf(f, ": %.4g, %.3g</title></circle>\n", p->x, p->y);
+        if (p->front) { /* name the points of the front */
+            int right = PX(log10(p->x)) > ox + MARGIN_L + w / 2; /* keep the text inside the panel */
+            fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"9\" fill=\"%s\" text-anchor=\"%s\">",
+                    PX(log10(p->x)) + (right ? -6 : 6), PY(log10(p->y)) - 5, c, right ? "end" : "start");
+            put_text(f, p->label);
+            fputs("</text>\n", f);
+        }
     }
     for (int s = 0; s < nseries; s++) {
         fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">", ox + MARGIN_L + 8,

@@ -8,7 +8,7 @@ typedef struct plot_point {
     double x, y;   /* both > 0 for log axes; smaller is better on both */
     int series;    /* colour / legend index */
     int front;     /* set by plot_pareto */
-    char label[48];
+    char label[64];
 } plot_point;
 
 /* Mark the points no other point beats on both x and y (<= on both, < on one).
