@@ -117,7 +117,9 @@ static int tune(int runs, int bodies)
 int main(int argc, char **argv)
 {
     int runs = 5, do_tune = 0, nnames = 0, bodies = 2000;
-    const char **names = calloc((size_t)argc + 1, sizeof *names);
+    /* room for the arguments or the default list, whichever is longer */
+    size_t room = (size_t)argc + sizeof default_scenes / sizeof default_scenes[0] + 1;
+    const char **names = calloc(room, sizeof *names);
     if (!names) return 2;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
