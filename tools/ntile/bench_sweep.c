@@ -234,7 +234,9 @@ int bench_plot(const bench_opts *opts, int nargs, char **args)
              "deepest body-body overlap, cells", pa, n},
             {"time against bounce apex error", "ns per body per 1/40 s (rain, 4,000 bodies)",
              "bounce apex height, relative error", pb, n}};
-        if (!svg || !plot_svg(svg, panels, 2, series, 2) || fclose(svg) != 0) {
+        int written = svg && plot_svg(svg, panels, 2, series, 2);
+        if (svg && fclose(svg) != 0) written = 0;
+        if (!written) {
             fprintf(stderr, "ntile bench plot: cannot write '%s'\n", path);
             goto done;
         }
