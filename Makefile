@@ -13,6 +13,11 @@
 #                        example through pkg-config, uninstall
 #   make check-headers   each public header alone as C11 (-Werror) and as C++11
 #   make sheet           regenerate tools/ntile/sheet.svg (the answer key shown in the README)
+#   make bench           the world scenes: ns per body-step and error metrics, scaling
+#   make bench-sweep     run time against error: dt, substeps, iterations, friction model,
+#                        float and double (CSV + SVG in build/sweep/)
+#   make bench-peers     the same scenes in Chipmunk2D 7 and Box2D 2.4 (Debian's
+#                        libchipmunk-dev and libbox2d-dev, installed when missing)
 #
 # Replays must be bit-identical across optimisation levels and compilers, so the
 # floating-point flags are fixed: -ffp-contract=off always, never -ffast-math.
@@ -65,7 +70,7 @@ TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
 .PHONY: all lib cli test asan valgrind determinism fuzz soak run clean deps-cc deps-test deps-cxx deps-pkgconfig \
-        install uninstall check-install check-headers sheet
+        install uninstall check-install check-headers sheet bench bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -105,14 +110,17 @@ $(GAME_LIB): $(GAME_OBJ) $(STAMP)
 $(BUILD)/ntile: $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(LIBS)
 
-# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers.
-$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
+# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
+# (test_bench also with the benchmark's metric, scene, outline and plot code).
+TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o))
+.SECONDEXPANSION:
+$(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $$(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(LIBS)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(LIBS)
 
 $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Isrc -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_ALL) -Isrc -Itools/ntile -MMD -MP -c $< -o $@
 
 test: deps-test $(TEST_BIN) $(BUILD)/ntile
 	@pass=0; fail=0; for t in $(TEST_BIN); do \
@@ -182,6 +190,45 @@ SOAK_STEPS ?= 1000000
 SOAK_BODIES ?= 10000
 soak: $(BUILD)/ntile
 	$(BUILD)/ntile soak --steps $(SOAK_STEPS) --bodies $(SOAK_BODIES)
+
+# ---- benchmarks: figures measured on the machine that runs them (RUNS >= 5) ----
+RUNS ?= 5
+BENCH_SCENES ?= rain particles sparse pile asleep slide bounce gas incline flight rest tunnel
+bench: $(BUILD)/ntile
+	$(BUILD)/ntile bench world $(BENCH_SCENES) --runs $(RUNS)
+	$(BUILD)/ntile bench scaling --runs $(RUNS)
+
+# The sweep needs both scalar types: each binary measures its own points, then the
+# float one merges the CSVs, finds the Pareto front and draws the SVG.
+SWEEP_DIR ?= $(BUILD)/sweep
+bench-sweep: $(BUILD)/ntile
+	@$(MAKE) --no-print-directory NT_DOUBLE=1 BUILD=$(BUILD)/double-bench $(BUILD)/double-bench/ntile
+	@mkdir -p $(SWEEP_DIR)
+	$(BUILD)/ntile bench sweep --runs $(RUNS) --out $(SWEEP_DIR)/float.csv
+	$(BUILD)/double-bench/ntile bench sweep --runs $(RUNS) --out $(SWEEP_DIR)/double.csv
+	$(BUILD)/ntile bench plot $(SWEEP_DIR)/float.csv $(SWEEP_DIR)/double.csv --out $(SWEEP_DIR)/sweep
+
+# Peers: C for everything but the one C++ shim Box2D 2.4 needs (compiled with CXX).
+CXX ?= g++
+PEER_SRC := $(wildcard tools/bench-peers/*.c)
+PEER_OBJ := $(PEER_SRC:%.c=$(OBJ)/%.o) $(OBJ)/tools/bench-peers/box2d_shim.o
+BENCH_SHARED_OBJ := $(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o engine_ntile.o bench_run.o bench_common.o geometry.o)
+deps-peers:
+	@tools/deps.sh cc cxx chipmunk box2d
+
+$(OBJ)/tools/bench-peers/%.o: tools/bench-peers/%.c | deps-peers
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -Itools/ntile -MMD -MP -c $< -o $@
+
+$(OBJ)/tools/bench-peers/box2d_shim.o: tools/bench-peers/box2d_shim.cpp | deps-peers
+	@mkdir -p $(dir $@)
+	$(CXX) -std=c++11 $(OPT) $(filter-out -Wmissing-prototypes,$(WARN)) -ffp-contract=off -MMD -MP -c $< -o $@
+
+$(BUILD)/bench-peers: $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a
+	$(CXX) $(LDFLAGS_ALL) -o $@ $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a -lchipmunk -lbox2d $(LIBS)
+
+bench-peers: deps-peers $(BUILD)/bench-peers
+	$(BUILD)/bench-peers --runs $(RUNS)
 
 # The main job until the playground exists: replay the default level headless.
 run: $(BUILD)/ntile

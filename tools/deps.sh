@@ -1,6 +1,7 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
-# Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb, valgrind)
+# Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb,
+#                                    valgrind, chipmunk, box2d)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
 set -u
@@ -14,6 +15,10 @@ for f in "$@"; do
     cc) command -v "${CC:-cc}" >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || missing="$missing build-essential" ;;
     cmocka) have_header cmocka.h -lcmocka || missing="$missing libcmocka-dev" ;;
     cxx) command -v "${CXX:-g++}" >/dev/null 2>&1 || missing="$missing g++" ;;
+    chipmunk) have_header chipmunk/chipmunk.h -lchipmunk || missing="$missing libchipmunk-dev" ;;
+    box2d) # a C++ library: try to compile and link against it
+        printf '#include <box2d/box2d.h>\nint main(){b2World w(b2Vec2(0,0));return 0;}\n' \
+            | ${CXX:-g++} -x c++ - -o /dev/null -lbox2d >/dev/null 2>&1 || missing="$missing libbox2d-dev" ;;
     clang) command -v clang >/dev/null 2>&1 || missing="$missing clang" ;;
     fuzzer) # libFuzzer comes with clang's runtime package, named after clang's major version
         if ! command -v clang >/dev/null 2>&1; then missing="$missing clang"

@@ -16,23 +16,8 @@
 #include "cli.h"
 #include "ntile/ntile.h"
 
-/* ---------- shared by every scene ---------- */
-
 /* Results of the timed work reach this sink, so the calls cannot be optimised away. */
 static volatile double bench_sink;
-
-double bench_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
-}
-
-int bench_cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* One unit of work: repeat it `reps` times, return a value that depends on every result. */
 typedef double bench_work(const void *ctx, long reps);
@@ -61,21 +46,6 @@ static double bench_median_ns(const bench_opts *opts, bench_work *work, const vo
     double m = opts->runs % 2 ? per[opts->runs / 2] : (per[opts->runs / 2 - 1] + per[opts->runs / 2]) / 2;
     free(per);
     return m;
-}
-
-/* splitmix64: a fixed seed makes every run time the same placements. */
-uint64_t bench_rng_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-/* Uniform in [lo, hi). */
-double bench_rng_range(uint64_t *s, double lo, double hi)
-{
-    return lo + (hi - lo) * ((double)(bench_rng_next(s) >> 11) * 0x1.0p-53);
 }
 
 static nt_real rng_range(uint64_t *s, double lo, double hi)
@@ -204,14 +174,18 @@ typedef struct bench_scene {
 
 static const bench_scene scenes[] = {
     {"narrow", "ns per AABB-vs-tile and circle-vs-tile test over the 33 solid tiles", bench_narrow},
-    {"world", "ns per body-step of world scenes: bench world [rain pile particles sparse asleep scale]",
+    {"world", "ns per body-step and error metrics of world scenes (tools/ntile/scene.c): bench world [SCENE...]",
      bench_world},
+    {"scaling", "ns per body-step at 1k/10k/100k bodies, memory per body and cell, skipping ratios",
+     bench_scaling},
+    {"sweep", "run time against error over dt, substeps, iterations, friction model: --out FILE.csv", bench_sweep},
+    {"plot", "Pareto front and SVG of sweep CSVs: bench plot FILE.csv... --out PREFIX", bench_plot},
 };
 #define SCENE_COUNT (sizeof scenes / sizeof scenes[0])
 
 void cli_bench_usage(FILE *f)
 {
-    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS]\n"
+    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS] [--out PATH]\n"
           "      Time a part of the engine: median of N runs (default 7), each lasting at\n"
           "      least MS milliseconds (default 20). Scenes:\n",
           f);
@@ -253,7 +227,7 @@ int cli_bench(int argc, char **argv)
         fprintf(stderr, "ntile bench: unknown benchmark '%s'\n", argv[1]);
         return bench_usage_error();
     }
-    bench_opts opts = {7, 20};
+    bench_opts opts = {7, 20, NULL};
     char **words = malloc(sizeof(char *) * (size_t)argc);
     int nwords = 0;
     if (!words) return CLI_USAGE;
@@ -272,6 +246,13 @@ int cli_bench(int argc, char **argv)
                 return bench_usage_error();
             }
             opts.min_ms = v;
+        } else if (strcmp(argv[i], "--out") == 0) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "ntile bench: --out needs a path\n");
+                free(words);
+                return bench_usage_error();
+            }
+            opts.out = argv[++i];
         } else if (argv[i][0] == '-') {
             fprintf(stderr, "ntile bench %s: unknown option '%s'\n", scene->name, argv[i]);
             free(words);

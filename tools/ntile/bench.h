@@ -10,6 +10,7 @@
 typedef struct bench_opts {
     int runs;      /* timed runs; the median is reported */
     double min_ms; /* shortest duration of one run (micro-benchmarks) */
+    const char *out; /* --out: output file (sweep: CSV; plot: prefix of .csv and .svg) */
 } bench_opts;
 
 /* CLOCK_MONOTONIC in nanoseconds. */
@@ -20,12 +21,11 @@ int bench_cmp_double(const void *a, const void *b);
 uint64_t bench_rng_next(uint64_t *s);
 double bench_rng_range(uint64_t *s, double lo, double hi);
 
-/* The rain scene of `bench world` with n bodies (the map grows with sqrt(n): 256 x 256
- * cells at 10,000), for the soak test; ids receives the handles. NULL on failure
- * (message on stderr). */
-nt_world *bench_rain_world(int bodies, nt_body_id *ids);
-
-/* `ntile bench world [SCENE...]` (bench_world.c). */
+/* `ntile bench world [SCENE...]` (bench_world.c), `scaling` (bench_scaling.c),
+ * `sweep` and `plot` (bench_sweep.c). */
 int bench_world(const bench_opts *opts, int nargs, char **args);
+int bench_scaling(const bench_opts *opts, int nargs, char **args);
+int bench_sweep(const bench_opts *opts, int nargs, char **args);
+int bench_plot(const bench_opts *opts, int nargs, char **args);
 
 #endif

@@ -14,8 +14,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bench.h"
 #include "cli.h"
+#include "engine.h"
+#include "scene.h"
 #include "ntile/ntile.h"
 
 typedef struct soak_state {
@@ -70,7 +71,14 @@ int cli_soak(int argc, char **argv)
     }
     nt_body_id *ids = malloc(sizeof *ids * (size_t)bodies);
     soak_state *st = malloc(sizeof *st * (size_t)bodies);
-    nt_world *w = ids && st ? bench_rain_world((int)bodies, ids) : NULL;
+    scene sc;
+    int made = ids && st && scene_make("rain", (int)bodies, &sc);
+    nt_world *w = made ? ntile_scene_world(&sc, ids) : NULL;
+    nt_real dt = made ? (nt_real)sc.dt : 0;
+    if (made) {
+        bodies = sc.nbodies;
+        scene_free(&sc);
+    }
     if (!w) {
         fprintf(stderr, "ntile soak: cannot build the scene\n");
         free(ids);
@@ -91,7 +99,6 @@ int cli_soak(int argc, char **argv)
         st[i].p = nt_body_get_position(w, ids[i]);
         st[i].asleep = !nt_body_is_awake(w, ids[i]);
     }
-    nt_real dt = (nt_real)1 / 40;
     for (long s = 1; s <= steps && failed_step < 0; s++) {
         if (nt_world_step(w, dt) != NT_OK) {
             snprintf(why, sizeof why, "nt_world_step failed");

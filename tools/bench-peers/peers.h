@@ -1,0 +1,10 @@
+/* bench-peers — the peer engines (chipmunk.c, box2d.c). */
+#ifndef NTILE_BENCH_PEERS_H
+#define NTILE_BENCH_PEERS_H
+
+#include "engine.h"
+
+extern const engine engine_chipmunk;
+extern const engine engine_box2d;
+
+#endif

@@ -1,0 +1,136 @@
+/* ntile bench — run a scene on an engine: timing and error metrics (see engine.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "bench.h"
+#include "engine.h"
+
+/* Build, warm up (untimed, then until nothing is awake when the scene asks), and
+ * return the world; *warm gets the steps taken. */
+static void *warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
+                    body_state *st)
+{
+    void *w = e->create(s, set);
+    if (!w) return NULL;
+    *warm = 0;
+    for (int k = 0; k < s->warm_steps; k++, (*warm)++) {
+        if (!e->step(w)) goto fail;
+        if (t) {
+            e->read(w, st);
+            metrics_step(t, st);
+        }
+    }
+    for (int k = 0; k < s->until_asleep && e->awake(w) > 0; k++, (*warm)++) {
+        if (!e->step(w)) goto fail;
+        if (t) {
+            e->read(w, st);
+            metrics_step(t, st);
+        }
+    }
+    return w;
+fail:
+    e->destroy(w);
+    return NULL;
+}
+
+double run_spread(const run_result *r) { return r->ns > 0 ? (r->ns_max - r->ns_min) / 2 / r->ns * 100 : 0; }
+
+run_result bench_run(const engine *e, const engine_setting *set, const scene *s, int runs, int with_metrics)
+{
+    run_result res = {0};
+    double start = bench_now_ns();
+    res.bodies = s->nbodies;
+    res.steps = s->steps;
+    if (runs < 1) runs = 1;
+    double *per = malloc(sizeof(double) * (size_t)runs);
+    body_state *st = malloc(sizeof *st * (size_t)(s->nbodies > 0 ? s->nbodies : 1));
+    metrics_tracker *t = with_metrics ? metrics_begin(s) : NULL;
+    int ok = per && st && (!with_metrics || t);
+    for (int r = 0; r < runs && ok; r++) {
+        /* the first run also feeds the metrics: only the steps are timed */
+        metrics_tracker *tr = r == 0 ? t : NULL;
+        int warm = 0;
+        void *w = warmed(e, set, s, &warm, tr, st);
+        if (!w) {
+            ok = 0;
+            break;
+        }
+        double elapsed = 0;
+        for (int k = 0; k < s->steps && ok; k++) {
+            double t0 = bench_now_ns();
+            ok = e->step(w);
+            elapsed += bench_now_ns() - t0;
+            if (tr) {
+                e->read(w, st);
+                metrics_step(tr, st);
+            }
+        }
+        res.awake = e->awake(w);
+        res.warm = warm;
+        e->destroy(w);
+        per[r] = elapsed / ((double)(s->nbodies > 0 ? s->nbodies : 1) * (double)s->steps);
+    }
+    if (ok) {
+        qsort(per, (size_t)runs, sizeof *per, bench_cmp_double);
+        res.ns = runs % 2 ? per[runs / 2] : (per[runs / 2 - 1] + per[runs / 2]) / 2;
+        res.ns_min = per[0];
+        res.ns_max = per[runs - 1];
+        if (t) res.m = metrics_get(t);
+        res.ok = 1;
+    }
+    metrics_end(t);
+    free(per);
+    free(st);
+    res.wall_s = (bench_now_ns() - start) * 1e-9;
+    return res;
+}
+
+/* A figure, or "-" when it does not apply (negative). */
+static const char *fig(char *buf, size_t n, const char *fmt, double v)
+{
+    if (v < 0) snprintf(buf, n, "-");
+    else snprintf(buf, n, fmt, v);
+    return buf;
+}
+
+/* The analytic error that applies to a scene, as "kind value". */
+static const char *analytic(char *buf, size_t n, const metrics *m)
+{
+    if (m->bounce_error >= 0) snprintf(buf, n, "apex %.2g", m->bounce_error);
+    else if (m->incline_error >= 0) snprintf(buf, n, "accel %.2g", m->incline_error);
+    else if (m->flight_error >= 0) snprintf(buf, n, "path %.2g", m->flight_error);
+    else snprintf(buf, n, "-");
+    return buf;
+}
+
+void bench_print_header(const char *first)
+{
+    printf("%-26s %7s %7s %10s %7s %9s %9s %6s %9s %8s %9s %12s\n", first, "bodies", "awake", "ns/body-step",
+           "spread", "pen", "overlap", "tunnel", "ghost", "energy", "jitter", "analytic");
+}
+
+void bench_print_row(const char *label, const run_result *r, const char *extra)
+{
+    char a[32], b[32], c[32], d[32], e[32];
+    const metrics *m = &r->m;
+    char ghost[32];
+    if (m->ghost_bumps < 0) snprintf(ghost, sizeof ghost, "-");
+    else snprintf(ghost, sizeof ghost, "%d", m->ghost_bumps);
+    printf("%-26s %7d %7d %10.2f %6.1f%% %9s %9s %6d %9s %8s %9s %12s%s\n", label, r->bodies, r->awake, r->ns,
+           run_spread(r), fig(a, sizeof a, "%.2g", m->penetration), fig(b, sizeof b, "%.2g", m->overlap), m->tunnelled,
+           ghost, fig(c, sizeof c, "%.2g", m->energy_drift), fig(d, sizeof d, "%.2g", m->jitter),
+           analytic(e, sizeof e, m), extra ? extra : "");
+}
+
+void bench_print_legend(void)
+{
+    printf("# ns/body-step: median of the timed runs; spread: (max - min) / 2 / median over the runs.\n"
+           "# pen: deepest penetration into a tile (cells, ntile's exact nt_map_overlap_depth);\n"
+           "# overlap: deepest overlap of two colliding bodies (cells); tunnel: bodies whose centre ended in\n"
+           "# solid or outside the map, or passed through solid; ghost: bodies that moved up faster than\n"
+           "# %.2g cell/s sliding on a flat floor; energy: max |E - E0| / E0 (bounce 1 bodies); jitter: largest\n"
+           "# move of a body that should rest (cells); analytic: relative error of bounce apex heights,\n"
+           "# incline acceleration or free-flight path. '-': nothing in the scene it applies to.\n",
+           GHOST_SPEED);
+}
+

@@ -1,0 +1,144 @@
+/* ntile bench scaling — how the cost grows and what the world skips.
+ *
+ * `ntile bench scaling [--runs N]` prints:
+ *   - ns per body-step of rain at 1k, 10k and 100k bodies (the map grows with the count);
+ *   - memory per map cell and per body, counted through the allocator hook
+ *     (nt_set_allocator): live bytes of empty worlds of two sizes, and of the rain world
+ *     with 10k bodies after creation and at its peak over 120 steps;
+ *   - the skipping ratios, each measured in this run: asleep against awake bodies (the
+ *     pile with and without sleep), particles (tiles only) against rain, and bodies with
+ *     an empty neighbourhood (free) against bodies resting on tiles (touching).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "bench.h"
+#include "cli.h"
+#include "engine.h"
+
+/* ---------- counting allocator: a size header in front of every block ---------- */
+
+typedef struct mem_count {
+    long long live, peak, blocks;
+} mem_count;
+
+static mem_count mem;
+
+#define HEADER 16 /* keeps the block 16-byte aligned */
+
+static void *count_alloc(size_t size, void *user)
+{
+    (void)user;
+    unsigned char *p = malloc(size + HEADER);
+    if (!p) return NULL;
+    memcpy(p, &size, sizeof size);
+    mem.live += (long long)size;
+    mem.blocks++;
+    if (mem.live > mem.peak) mem.peak = mem.live;
+    return p + HEADER;
+}
+
+static void count_free(void *ptr, void *user)
+{
+    (void)user;
+    unsigned char *p = (unsigned char *)ptr - HEADER;
+    size_t size;
+    memcpy(&size, p, sizeof size);
+    mem.live -= (long long)size;
+    mem.blocks--;
+    free(p);
+}
+
+/* Live bytes of an empty world of side x side cells. */
+static long long empty_world_bytes(int side)
+{
+    nt_world_def d = nt_default_world_def();
+    d.map.width = d.map.height = side;
+    long long before = mem.live;
+    nt_world *w = NULL;
+    if (nt_world_create(&d, &w) != NT_OK) return -1;
+    long long bytes = mem.live - before;
+    nt_world_destroy(w);
+    return bytes;
+}
+
+static run_result timed(const bench_opts *opts, const char *name, int n)
+{
+    scene s;
+    run_result r = {0};
+    if (!scene_make(name, n, &s)) return r;
+    engine_setting none = {"ntile", 0, 0, 1, -1, 0};
+    r = bench_run(&engine_ntile, &none, &s, opts->runs, 0);
+    scene_free(&s);
+    return r;
+}
+
+int bench_scaling(const bench_opts *opts, int nargs, char **args)
+{
+    if (nargs > 0) {
+        fprintf(stderr, "ntile bench scaling: unexpected argument '%s'\n", args[0]);
+        return CLI_USAGE;
+    }
+    if (opts->runs < 5) {
+        fprintf(stderr, "ntile bench scaling: --runs must be at least 5 (the figure is a median)\n");
+        return CLI_USAGE;
+    }
+    printf("# ntile bench scaling: %s, median of %d runs, dt 1/40 s\n", SCALAR_NAME, opts->runs);
+    static const int counts[] = {1000, 10000, 100000};
+    double lo = 1e300, hi = 0;
+    for (int j = 0; j < 3; j++) {
+        run_result r = timed(opts, "rain", counts[j]);
+        if (!r.ok) return CLI_USAGE;
+        printf("scale rain %6d bodies  %8.2f ns/body-step  spread %.1f %%\n", counts[j], r.ns, run_spread(&r));
+        fflush(stdout);
+        lo = r.ns < lo ? r.ns : lo;
+        hi = r.ns > hi ? r.ns : hi;
+    }
+    printf("scale spread %.1f %% (largest / smallest ns per body-step, 1k to 100k bodies; target within 25 %%)\n",
+           (hi / lo - 1) * 100);
+
+    /* memory, through the allocator hook */
+    nt_set_allocator(count_alloc, count_free, NULL);
+    long long a = empty_world_bytes(256), b = empty_world_bytes(512);
+    scene s;
+    if (!scene_make("rain", 10000, &s)) {
+        nt_set_allocator(NULL, NULL, NULL);
+        return CLI_USAGE;
+    }
+    long long base = empty_world_bytes(s.width);
+    engine_setting none = {"ntile", 0, 0, 1, -1, 0};
+    mem.peak = mem.live;
+    long long start = mem.live;
+    void *w = engine_ntile.create(&s, &none);
+    long long created = mem.live - start;
+    for (int k = 0; k < s.steps && w; k++) engine_ntile.step(w);
+    long long peak = mem.peak - start, after = mem.live - start;
+    /* the runner's own arrays (the id list) are not from the hook: only the world counts */
+    if (w) engine_ntile.destroy(w);
+    long long leaked = mem.live - start;
+    nt_set_allocator(NULL, NULL, NULL);
+    int n = s.nbodies;
+    scene_free(&s);
+    if (a < 0 || b < 0 || base < 0 || !w) return CLI_USAGE;
+    double per_cell = (double)(b - a) / (512.0 * 512 - 256.0 * 256);
+    printf("memory per cell   %.2f bytes (empty worlds of 256^2 and 512^2 cells: %lld and %lld bytes)\n", per_cell, a,
+           b);
+    printf("memory per body   %.1f bytes after creation, %.1f after 120 steps, %.1f at the peak (rain, %d bodies, "
+           "world without bodies %lld bytes)%s\n",
+           (double)(created - base) / n, (double)(after - base) / n, (double)(peak - base) / n, n, base,
+           leaked ? "  (memory left after destroy!)" : "");
+
+    /* skipping ratios */
+    run_result awake = timed(opts, "pile", 0), asleep = timed(opts, "asleep", 0);
+    run_result rain = timed(opts, "rain", 10000), parts = timed(opts, "particles", 10000);
+    run_result fr = timed(opts, "free", 10000), touch = timed(opts, "touching", 10000);
+    if (!awake.ok || !asleep.ok || !rain.ok || !parts.ok || !fr.ok || !touch.ok) return CLI_USAGE;
+    printf("skip asleep/awake      %8.4f  (pile of 3000: %.2f ns asleep, %.2f ns awake with sleep off)\n",
+           asleep.ns / awake.ns, asleep.ns, awake.ns);
+    printf("skip particles/rain    %8.4f  (10000 bodies: %.2f ns tiles only, %.2f ns with body contacts)\n",
+           parts.ns / rain.ns, parts.ns, rain.ns);
+    printf("skip free/touching     %8.4f  (10000 bodies, tiles only: %.2f ns with nothing near, %.2f ns resting on "
+           "a floor)\n",
+           fr.ns / touch.ns, fr.ns, touch.ns);
+    return CLI_OK;
+}
