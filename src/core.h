@@ -164,7 +164,7 @@ typedef struct nt__tile_ct {
 /* An awake body of the broad phase, in a compact array sorted by cell each step so
  * that neighbours are met in memory order. */
 typedef struct nt__proxy {
-    nt_vec2 p, half;
+    nt_vec2 p, v, half;
     uint32_t key;              /* cell index y * grid_w + x */
     int32_t body;
 } nt__proxy;
@@ -230,6 +230,7 @@ struct nt_world {
     uint32_t *rest_near;       /* per cell: REST-list bodies in the 3 x 3 cells around it */
     nt__proxy *prox, *prox_tmp; /* awake grid bodies sorted by cell, rebuilt each step */
     int prox_cap;
+    nt_real pair_margin, pair_dt; /* the pair search's base margin and step (grid.c) */
     uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
     uint32_t *radix;           /* 2 x 4096 counters of the proxies' radix sort */
     int grid_w, grid_h;
@@ -294,7 +295,7 @@ nt_status nt__grid_enable(nt_world *w);
 void nt__grid_insert(nt_world *w, int32_t i);
 void nt__grid_remove(nt_world *w, int32_t i);
 void nt__grid_update(nt_world *w, int32_t i);   /* after the body moved or changed list */
-nt_status nt__grid_find_pairs(nt_world *w);     /* fills con_new; may grow it */
+nt_status nt__grid_find_pairs(nt_world *w, nt_real dt); /* fills con_new; may grow it */
 typedef bool nt__visit_fn(const nt_world *w, int32_t i, void *ctx);
 void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx);
 bool nt__pair_filter(const nt__body *a, const nt__body *b);

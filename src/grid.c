@@ -197,12 +197,34 @@ static int pair_depth(const nt__body *a, const nt__body *b, nt_real margin, nt_v
     return 1;
 }
 
+/* How close a pair must be to become a contact: the base margin, plus how far the two
+ * close in on each other this step along each axis (speculative contacts: a fast pair
+ * is solved before it overlaps, instead of being found already deep inside each
+ * other). Only an approach counts. At most one cell: only neighbouring cells are
+ * searched. d = b's centre - a's, dv = b's velocity - a's. */
+static inline nt_real axis_margin(const nt_world *w, nt_real d, nt_real dv)
+{
+    nt_real m = w->pair_margin + (d * dv < 0 ? nt__fabs(dv) * w->pair_dt : 0);
+    return m < w->cell ? m : w->cell;
+}
+
+/* Boxes of a and b (centres pa, pb, half-sizes ha, hb) within the margins. */
+static inline int boxes_near(const nt_world *w, nt_vec2 pa, nt_vec2 ha, nt_vec2 va, nt_vec2 pb, nt_vec2 hb, nt_vec2 vb)
+{
+    nt_real dx = pb.x - pa.x, dy = pb.y - pa.y;
+    return nt__fabs(dx) < ha.x + hb.x + axis_margin(w, dx, vb.x - va.x) &&
+           nt__fabs(dy) < ha.y + hb.y + axis_margin(w, dy, vb.y - va.y);
+}
+
 /* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
-static inline int test_pair(nt_world *w, int32_t i, int32_t j, nt_real margin)
+static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
     const nt__body *bi = &w->bodies[i], *bj = &w->bodies[j];
-    nt_real dx = bj->p.x - bi->p.x, dy = bj->p.y - bi->p.y;
-    if (nt__fabs(dx) >= bi->half.x + bj->half.x + margin || nt__fabs(dy) >= bi->half.y + bj->half.y + margin) return 1;
+    if (!boxes_near(w, bi->p, bi->half, bi->v, bj->p, bj->half, bj->v)) return 1;
+    /* The gap that makes a contact: the base margin plus the closing speed's reach. */
+    nt_real dvx = bj->v.x - bi->v.x, dvy = bj->v.y - bi->v.y;
+    nt_real margin = w->pair_margin + w->pair_dt * nt__sqrt(dvx * dvx + dvy * dvy);
+    if (margin > w->cell) margin = w->cell;
     if (!nt__pair_filter(bi, bj)) return 1;
     int32_t a = i < j ? i : j, b = i < j ? j : i;
     const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
@@ -224,8 +246,16 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j, nt_real margin)
     c->gen_b = bb->generation;
     c->n = n;
     c->depth = depth;
+    /* Touching: overlapping (sensors) or within the skin, or closing the gap during
+     * this step at the speed they approach: a collision happens now, so its begin
+     * event (and the wake-up of a sleeping partner) is not a step late. */
+    int touch = depth > (sensor ? 0 : -nt__skin(w, ba->p));
+    if (!touch && !sensor) {
+        nt_real vn = (bb->v.x - ba->v.x) * n.x + (bb->v.y - ba->v.y) * n.y;
+        touch = vn * w->pair_dt < depth;
+    }
     c->flags = ((ba->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_A : 0u) | ((bb->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_B : 0u) |
-               (depth > (sensor ? 0 : -nt__skin(w, ba->p)) ? NT__CF_TOUCH : 0u);
+               (touch ? NT__CF_TOUCH : 0u);
     return 1;
 }
 
@@ -257,6 +287,7 @@ static nt_status build_proxies(nt_world *w, int *count)
         if (b->gcell < 0) continue;
         nt__proxy *q = &src[n++];
         q->p = b->p;
+        q->v = b->v;
         q->half = b->half;
         q->key = (uint32_t)b->gcell >> 1;
         q->body = i;
@@ -279,15 +310,16 @@ static nt_status build_proxies(nt_world *w, int *count)
 }
 
 /* Box test with the margin on proxies, then the full test on the bodies. */
-static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy *b, nt_real margin)
+static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy *b)
 {
-    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
-    if (nt__fabs(dx) >= a->half.x + b->half.x + margin || nt__fabs(dy) >= a->half.y + b->half.y + margin) return 1;
-    return test_pair(w, a->body, b->body, margin);
+    if (!boxes_near(w, a->p, a->half, a->v, b->p, b->half, b->v)) return 1;
+    return test_pair(w, a->body, b->body);
 }
 
-nt_status nt__grid_find_pairs(nt_world *w)
+nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
 {
+    w->pair_margin = w->cell * NT__CONTACT_MARGIN;
+    w->pair_dt = dt;
     w->con_new_count = 0;
     w->counters.pair_tests = 0;
     if (!w->heads || w->grid_bodies < 2) return NT_OK;
@@ -303,7 +335,6 @@ nt_status nt__grid_find_pairs(nt_world *w)
     if (st != NT_OK) return st;
     const nt__proxy *P = w->prox_tmp; /* sorted */
     const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h;
-    const nt_real margin = w->cell * NT__CONTACT_MARGIN;
     int tests = 0;
     /* Awake pairs: each proxy meets the later ones of its own cell and of the cell to
      * its right (the next keys), and those of the three cells below it, found by a
@@ -313,15 +344,15 @@ nt_status nt__grid_find_pairs(nt_world *w)
         uint32_t key = P[i].key, x = key % gw, y = key / gw;
         int j = i + 1;
         for (; j < n && P[j].key == key; j++, tests++)
-            if (!test_proxies(w, &P[i], &P[j], margin)) return NT_ERR_OUT_OF_MEMORY;
+            if (!test_proxies(w, &P[i], &P[j])) return NT_ERR_OUT_OF_MEMORY;
         if (x + 1 < gw)
             for (; j < n && P[j].key == key + 1; j++, tests++)
-                if (!test_proxies(w, &P[i], &P[j], margin)) return NT_ERR_OUT_OF_MEMORY;
+                if (!test_proxies(w, &P[i], &P[j])) return NT_ERR_OUT_OF_MEMORY;
         if (y + 1 < gh) {
             uint32_t lo = key + gw - (x > 0), hi = key + gw + (x + 1 < gw);
             while (below < n && P[below].key < lo) below++;
             for (int k = below; k < n && P[k].key <= hi; k++, tests++)
-                if (!test_proxies(w, &P[i], &P[k], margin)) return NT_ERR_OUT_OF_MEMORY;
+                if (!test_proxies(w, &P[i], &P[k])) return NT_ERR_OUT_OF_MEMORY;
         }
     }
     /* Awake against resting (static and sleeping) bodies: the REST lists of the 9 cells. */
@@ -334,7 +365,7 @@ nt_status nt__grid_find_pairs(nt_world *w)
                 for (int x = cx - 1; x <= cx + 1; x++) {
                     if (x < 0 || x >= (int)gw || !occupied(w, 2 * (y * (int)gw + x) + 1)) continue;
                     for (int32_t j = w->heads[2 * (y * (int)gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
-                        if (!test_pair(w, P[i].body, j, margin)) return NT_ERR_OUT_OF_MEMORY;
+                        if (!test_pair(w, P[i].body, j)) return NT_ERR_OUT_OF_MEMORY;
                 }
             }
         }

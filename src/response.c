@@ -173,14 +173,14 @@ static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *
     }
 }
 
-static nt_status collide(nt_world *w)
+static nt_status collide(nt_world *w, nt_real dt)
 {
     if (w->con_dirty) {
         nt__contact *r = sort_contacts(w->con, w->con_tmp, w->con_count);
         if (r != w->con) memcpy(w->con, r, (size_t)w->con_count * sizeof *r);
         w->con_dirty = 0;
     }
-    nt_status s = nt__grid_find_pairs(w);
+    nt_status s = nt__grid_find_pairs(w, dt);
     if (s != NT_OK) return s;
     int nn = w->con_new_count, no = w->con_count;
     /* Room for everything this step can produce (the merge keeps con and con_tmp
@@ -658,9 +658,11 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         c->friction = nt__sqrt(a->friction * b->friction);
         c->bounce = nt__max(a->bounce, b->bounce);
         nt_real vn0 = nt__dot(nt__sub(b->v, a->v), c->n);
-        int touch = (c->flags & NT__CF_TOUCH) != 0;
-        /* A near contact may close its gap this step and no more; one that closes it
-         * is a collision now, so it bounces with the full approach speed. */
+        /* Within the skin: resting or overlapping (position correction takes the
+         * overlap). Farther apart: a speculative contact, which may close its gap this
+         * step and no more; one that closes it is a collision now, so it bounces with
+         * the full approach speed. */
+        int touch = c->depth > -nt__skin(w, a->p);
         int hits = touch ? vn0 < 0 : vn0 * dt < c->depth;
         c->bias = touch ? 0 : c->depth / dt;
         if (hits && vn0 < -w->def.restitution_threshold) c->bias = nt__max(c->bias, -c->bounce * vn0);
@@ -965,7 +967,7 @@ static void update_sleep(nt_world *w, nt_real dt)
 
 nt_status nt__step(nt_world *w, nt_real dt)
 {
-    nt_status s = collide(w);
+    nt_status s = collide(w, dt);
     if (s != NT_OK) return s;
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
     correct_positions(w);

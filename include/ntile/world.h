@@ -18,8 +18,10 @@
  * is split into sub-steps for that body (only when the swept cells hold a tile;
  * at most 256, so this holds for half-sizes down to max_cells_per_step / 256
  * cells). Body-body contacts are found once per step, for pairs overlapping or
- * closer than 0.05 cell; bodies moving faster than their size relative to each
- * other can pass through each other.
+ * closer than 0.05 cell plus the distance they close in on each other during the
+ * step (speculative contacts, at most one cell): a fast pair is stopped where it
+ * meets instead of being found inside each other. Pairs closing faster than about
+ * a cell per step can still pass into each other.
  *
  * Contacts rest a "skin" deep (2.5e-4 cell; more far from the origin in float), so
  * that a resting contact is found again every step: a body on a floor sits
@@ -315,8 +317,8 @@ nt_status nt_body_get_tile_contacts(const nt_world *world, nt_body_id id, nt_bod
 
 /* ---------------------------------------------------------------- events */
 
-/// Two bodies started to touch: overlap, or come closer than the skin (found at the
-/// start of a step, so a collision is reported in the step after it happened).
+/// Two bodies started to touch: overlap, come closer than the skin, or close the gap
+/// between them during this step (reported in the step the collision happens).
 typedef struct nt_contact_begin_event {
     nt_body_id a, b;  ///< a was created in the lower slot
     nt_vec2 normal;   ///< from a towards b
