@@ -59,12 +59,17 @@ GAME_OBJ := $(GAME_SRC:%.c=$(OBJ)/%.o)
 GAME_LIB := $(BUILD)/libntile-game.a
 CLI_SRC := $(wildcard tools/ntile/*.c)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
+# The Tiled importer (ntile convert tiled): CLI side only, it reads files and needs
+# Debian's jansson (JSON), expat (XML) and zlib; never part of the engine library.
+TILED_SRC := $(wildcard tools/tiled/*.c)
+TILED_OBJ := $(TILED_SRC:%.c=$(OBJ)/%.o)
+TILED_LIBS := -ljansson -lexpat -lz
 TEST_SRC := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test deps-cxx deps-pkgconfig \
+.PHONY: all lib cli test asan valgrind determinism fuzz run clean deps-cc deps-test deps-cxx deps-pkgconfig deps-tiled \
         install uninstall check-install check-headers sheet
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
@@ -82,8 +87,14 @@ deps-cxx:
 	@tools/deps.sh cc cxx
 deps-pkgconfig:
 	@tools/deps.sh cc pkgconfig
+deps-tiled:
+	@tools/deps.sh cc tiled
 
 $(OBJ)/%.o: %.c | deps-cc
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
+
+$(OBJ)/tools/tiled/%.o: tools/tiled/%.c | deps-tiled
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
 
@@ -102,17 +113,22 @@ $(GAME_LIB): $(GAME_OBJ) $(STAMP)
 	@rm -f $@
 	ar rcs $@ $(GAME_OBJ)
 
-$(BUILD)/ntile: $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
-	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(LIBS)
+$(BUILD)/ntile: $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-tiled
+	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(TILED_LIBS) $(LIBS)
 
-# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers.
+# Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers;
+# test_tiled also links the Tiled importer.
 $(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(LIBS)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(TEST_EXTRA) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(TEST_EXTRA_LIBS) $(LIBS)
+
+$(BUILD)/tests/test_tiled: $(TILED_OBJ)
+$(BUILD)/tests/test_tiled: TEST_EXTRA = $(TILED_OBJ)
+$(BUILD)/tests/test_tiled: TEST_EXTRA_LIBS = $(TILED_LIBS)
 
 $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Isrc -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_ALL) -Isrc -Itools -MMD -MP -c $< -o $@
 
 test: deps-test $(TEST_BIN) $(BUILD)/ntile
 	@pass=0; fail=0; for t in $(TEST_BIN); do \

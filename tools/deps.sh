@@ -1,6 +1,7 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
-# Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb, valgrind)
+# Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb, valgrind,
+#                                    tiled: jansson, expat and zlib for the Tiled importer of the ntile CLI)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
 set -u
@@ -21,6 +22,10 @@ for f in "$@"; do
                 | clang -x c - -fsanitize=fuzzer -o /dev/null >/dev/null 2>&1; then
             missing="$missing libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
         fi ;;
+    tiled)
+        have_header jansson.h -ljansson || missing="$missing libjansson-dev"
+        have_header expat.h -lexpat || missing="$missing libexpat1-dev"
+        have_header zlib.h -lz || missing="$missing zlib1g-dev" ;;
     pkgconfig) command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config" ;;
     sdl2) command -v sdl2-config >/dev/null 2>&1 || missing="$missing libsdl2-dev" ;;
     xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb" ;;
