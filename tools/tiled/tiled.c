@@ -885,7 +885,8 @@ static nt_status object_region(builder *b, const tl_layer *l, const tl_object *o
     else if (strcmp(kind, "exit") == 0) r.kind = NT_REGION_EXIT;
     else if (strcmp(kind, "score") == 0) r.kind = NT_REGION_SCORE;
     else if (strcmp(kind, "kill") == 0) r.kind = NT_REGION_KILL;
-    else return tl_fail(c, o->loc, "%s: property \"region\": %s is not zone, exit, score or kill", what, tl_quote(q, kind));
+    else return tl_fail(c, prop(&o->props, "region")->loc, "%s: property \"region\": %s is not zone, exit, score or kill", what,
+                        tl_quote(q, kind));
     if (o->shape != TL_RECT) return tl_fail(c, o->loc, "%s: a region must be a rectangle", what);
     if (!(o->w > 0 && o->h > 0)) return tl_fail(c, o->loc, "%s: a region needs a width and a height", what);
     long long value = 0;
