@@ -175,15 +175,16 @@ determinism:
 # corpus in build/fuzz. Any crash, leak, sanitizer report or timeout fails the target.
 FUZZ_SECONDS ?= 60
 FUZZ_CFLAGS := -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-               -ffp-contract=off -Iinclude -Itests $(DEFS) $(WARN)
+               -ffp-contract=off -Iinclude -Itests -Itools $(DEFS) $(WARN)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_EXTRA_query := tools/ntile/query.c
 fuzz:
-	@tools/deps.sh clang fuzzer
+	@tools/deps.sh clang fuzzer tiled
 	@mkdir -p build/fuzz
 	@set -e; for n in $(FUZZ_NAMES); do \
-	  extra=""; [ "$$n" = query ] && extra="$(FUZZ_EXTRA_query)"; \
-	  clang $(FUZZ_CFLAGS) tests/fuzz/fuzz_$$n.c $$extra $(LIB_SRC) -lm -o build/fuzz/fuzz_$$n; \
+	  extra=""; libs=""; [ "$$n" = query ] && extra="$(FUZZ_EXTRA_query)"; \
+	  [ "$$n" = tiled ] && { extra="$(TILED_SRC)"; libs="$(TILED_LIBS)"; }; \
+	  clang $(FUZZ_CFLAGS) tests/fuzz/fuzz_$$n.c $$extra $(LIB_SRC) $$libs -lm -o build/fuzz/fuzz_$$n; \
 	  mkdir -p build/fuzz/work_$$n tests/fuzz/corpus/$$n; \
 	  echo "== fuzz $$n ($(FUZZ_SECONDS) s)"; \
 	  build/fuzz/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <zlib.h>
 #include "internal.h"
 
@@ -295,6 +296,12 @@ static int read_whole(const char *path, char **out, size_t *len, char *why, size
     FILE *f = fopen(path, "rb");
     if (!f) {
         snprintf(why, cap, "%s", strerror(errno));
+        return 0;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) { /* not /dev/zero, a FIFO or a directory */
+        snprintf(why, cap, "not a regular file");
+        fclose(f);
         return 0;
     }
     size_t n = 0, size = 1 << 14;

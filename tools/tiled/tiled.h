@@ -20,8 +20,9 @@
 #define TILED_GID_MASK 0x0fffffffu
 
 /* Import the map `path` whose text is text[0..length) (the caller read it; `path`
- * names it in messages and locates external tilesets). The format is JSON when the
- * text starts with '{' (after blanks), XML otherwise. On success *out holds the
+ * names it in messages and locates external tilesets). The format follows the
+ * extension (.tmj/.json JSON, .tmx/.xml XML); other names: JSON when the text starts
+ * with '{' (after blanks), XML otherwise. On success *out holds the
  * level; warnings (skipped objects, flips that have no N tile, ...) go to `warn`
  * (may be NULL) as "FILE[:LINE:COL]: warning: ELEMENT: text". On failure *out is
  * NULL, nothing is left allocated, and `error` holds "FILE[:LINE:COL]: ELEMENT:
