@@ -192,6 +192,7 @@ typedef struct ospec {
     const char *points; /* "x,y x,y ..." */
     pspec props[MAXP];
     double rotation;
+    const char *tmpl; /* an object template file (.tx) */
 } ospec;
 
 enum { L_TILES, L_OBJECTS, L_GROUP, L_END_GROUP };
@@ -333,6 +334,7 @@ static void object_xml(sbuf *b, const ospec *o)
     sb_printf(b, " x=\"%g\" y=\"%g\"", o->x, o->y);
     if (o->w || o->h) sb_printf(b, " width=\"%g\" height=\"%g\"", o->w, o->h);
     if (o->rotation) sb_printf(b, " rotation=\"%g\"", o->rotation);
+    if (o->tmpl) sb_printf(b, " template=\"%s\"", o->tmpl);
     sb_printf(b, ">\n");
     xml_props(b, o->props, "   ");
     if (o->kind == O_ELLIPSE) sb_printf(b, "   <ellipse/>\n");
@@ -346,6 +348,7 @@ static void object_json(sbuf *b, const ospec *o)
 {
     sb_printf(b, "\n {\"id\":%d, \"name\":\"%s\", \"x\":%g, \"y\":%g, \"width\":%g, \"height\":%g, \"rotation\":%g, \"visible\":true",
               o->id, o->name ? o->name : "", o->x, o->y, o->w, o->h, o->rotation);
+    if (o->tmpl) sb_printf(b, ", \"template\":\"%s\"", o->tmpl);
     if (o->kind == O_ELLIPSE) sb_printf(b, ", \"ellipse\":true");
     if (o->kind == O_POINT) sb_printf(b, ", \"point\":true");
     if (o->kind == O_TEXT) sb_printf(b, ", \"text\":{\"text\":\"hello\"}");
@@ -804,6 +807,30 @@ static void test_tilesets(void **state)
     }
 }
 
+/* Image collections number their tiles freely: an id past the tile count is known
+ * when the tileset defines it, unknown otherwise. */
+static void test_sparse_tile_ids(void **state)
+{
+    (void)state;
+    static const uint32_t ok[2] = {1, 8};
+    static const uint32_t bad[2] = {1, 6};
+    for (int fmt = F_TMX; fmt <= F_TMJ; fmt++) {
+        mspec m = {.w = 2, .h = 1, .tw = 16, .th = 16,
+                   .sets = {{.firstgid = 1, .name = "pics", .tilecount = 2,
+                             .tiles = {{0, {{"ntile", NULL, "HALFl"}}}, {7, {{"ntile", NULL, "HALFr"}}}}}},
+                   .layers = {{.name = "l", .kind = L_TILES, .enc = E_CSV, .gids = ok}}};
+        nt_level *lv = import_ok(&m, fmt, NULL);
+        assert_int_equal(TILE(0, 0), NT_TILE_HALFl);
+        assert_int_equal(TILE(1, 0), NT_TILE_HALFr);
+        nt_level_destroy(lv);
+        m.layers[0].gids = bad;
+        nt_text_error e;
+        free(emit(&m, fmt, map_name(fmt)));
+        assert_int_equal(import_file(map_name(fmt), &lv, &e, NULL), NT_ERR_PARSE);
+        expect_in(e.message, "layer \"l\": cell (1, 0): unknown tile id 6 (the tilesets hold ids 1..2)");
+    }
+}
+
 /* Every flip combination in a map, checked against tiled_flip_tile (itself checked
  * against the geometry above). */
 static void test_flips_in_map(void **state)
@@ -932,16 +959,18 @@ static void test_object_warnings(void **state)
                                  {.id = 3, .name = "marker", .kind = O_POINT, .x = 1, .y = 2},
                                  {.id = 4, .name = "line", .kind = O_POLYLINE, .points = "0,0 5,5"},
                                  {.id = 5, .name = "label", .kind = O_TEXT, .x = 1, .y = 1, .w = 10, .h = 10},
-                                 {.id = 6, .name = "box", .kind = O_RECT, .x = 1, .y = 1, .w = 10, .h = 10, .rotation = 45}}}},
+                                 {.id = 6, .name = "box", .kind = O_RECT, .x = 1, .y = 1, .w = 10, .h = 10, .rotation = 45},
+                                 {.id = 7, .name = "copy", .kind = O_RECT, .x = 1, .y = 1, .tmpl = "crate.tx"}}}},
         };
         warnings w = {0};
         nt_level *lv = import_ok(&m, fmt, &w);
-        assert_int_equal(w.count, 5);
+        assert_int_equal(w.count, 6);
         expect_in(w.text[0], "object \"spawn\" (id 2): a second player spawn; skipped");
         expect_in(w.text[1], "object \"marker\" (id 3): a point that is not named spawn; skipped");
         expect_in(w.text[2], "object \"line\" (id 4): a polyline without a \"path\" property; skipped");
         expect_in(w.text[3], "object \"label\" (id 5): text objects are not imported; skipped");
         expect_in(w.text[4], "object \"box\" (id 6): rotation ignored (ntile bodies never rotate)");
+        expect_in(w.text[5], "object \"copy\" (id 7): objects from templates (.tx) are not imported (detach the template); skipped");
         if (fmt == F_TMX) {
             char *text = emit(&m, fmt, "m.tmx");
             int line, col;
@@ -1410,6 +1439,7 @@ int main(void)
         cmocka_unit_test(test_layers_and_missing_properties),
         cmocka_unit_test(test_tilesets),
         cmocka_unit_test(test_flips_in_map),
+        cmocka_unit_test(test_sparse_tile_ids),
         cmocka_unit_test(test_objects),
         cmocka_unit_test(test_object_warnings),
         cmocka_unit_test(test_errors_in_specs),

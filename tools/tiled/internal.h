@@ -62,7 +62,7 @@ typedef struct tl_tileset {
     int ntiles;
 } tl_tileset;
 
-enum { TL_RECT, TL_ELLIPSE, TL_POINT, TL_POLYLINE, TL_POLYGON, TL_TEXT, TL_TILE_OBJECT };
+enum { TL_RECT, TL_ELLIPSE, TL_POINT, TL_POLYLINE, TL_POLYGON, TL_TEXT, TL_TILE_OBJECT, TL_TEMPLATE };
 
 typedef struct tl_object {
     long long id;

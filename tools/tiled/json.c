@@ -264,6 +264,7 @@ static nt_status read_object(const jr *r, const json_t *o, const char *lwhat, tl
         }
         ob->npoints = (int)n;
     }
+    if (json_object_get(o, "template")) ob->shape = TL_TEMPLATE;
     return NT_OK;
 }
 

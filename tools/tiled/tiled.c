@@ -664,10 +664,7 @@ static const tset *find_set(const builder *b, uint32_t gid)
             hi = mid - 1;
         }
     }
-    if (k < 0) return NULL;
-    const tset *s = &b->sets[k];
-    if (s->ts->tilecount >= 0 && (long long)gid - s->ts->firstgid >= s->ts->tilecount) return NULL;
-    return s;
+    return k < 0 ? NULL : &b->sets[k];
 }
 
 static const tile_info *find_tile(const tset *s, long long id)
@@ -764,7 +761,10 @@ static nt_status tile_layer(builder *b, const tl_layer *l)
             uint32_t raw = gids[k], gid = raw & TILED_GID_MASK;
             if (gid == 0) continue;
             const tset *set = find_set(b, gid);
-            if (!set) {
+            const tile_info *ti = set ? find_tile(set, (long long)gid - set->ts->firstgid) : NULL;
+            /* Past the tile count is unknown, unless the tileset defines that id (image
+             * collections may number their tiles beyond their count). */
+            if (!set || (!ti && set->ts->tilecount >= 0 && (long long)gid - set->ts->firstgid >= set->ts->tilecount)) {
                 char range[160] = "the map has no tilesets";
                 if (b->nsets) {
                     const tset *last = &b->sets[b->nsets - 1];
@@ -776,7 +776,6 @@ static nt_status tile_layer(builder *b, const tl_layer *l)
                 }
                 return tl_fail(c, l->data_loc, "%s: cell (%d, %d): unknown tile id %u (%s)", what, x, y, gid, range);
             }
-            const tile_info *ti = find_tile(set, (long long)gid - set->ts->firstgid);
             int shape = ti && ti->shape >= 0 ? ti->shape : solid ? NT_TILE_FULL : NT_TILE_EMPTY;
             if (shape == NT_TILE_EMPTY) continue;
             uint32_t flags = raw & (TILED_FLIP_H | TILED_FLIP_V | TILED_FLIP_D);
@@ -1046,6 +1045,9 @@ static nt_status object_other(builder *b, const tl_layer *l, const tl_object *o,
         return NT_OK;
     case TL_TEXT:
         tl_warn(c, o->loc, "%s: text objects are not imported; skipped", what);
+        return NT_OK;
+    case TL_TEMPLATE:
+        tl_warn(c, o->loc, "%s: objects from templates (.tx) are not imported (detach the template); skipped", what);
         return NT_OK;
     default:
         tl_warn(c, o->loc, "%s: tile objects are not imported (draw a rectangle or an ellipse); skipped", what);

@@ -328,6 +328,7 @@ static nt_status read_object(xb *b, const xnode *n, tl_object *ob)
             if ((s = read_points(b, k, what, ob)) != NT_OK) return s;
         }
     }
+    if (attr(n, "template")) ob->shape = TL_TEMPLATE;
     return NT_OK;
 }
 
