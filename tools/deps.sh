@@ -37,7 +37,8 @@ done
 if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
     echo "ntile: installing missing Debian packages:$missing"
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq && apt-get install -y -qq $missing >/dev/null || {
+    # make -j may run two of these at once (cmocka, tiled): the second waits for dpkg's lock
+    apt-get update -qq && apt-get install -y -qq -o DPkg::Lock::Timeout=600 $missing >/dev/null || {
         echo "ntile: apt-get install failed for:$missing" >&2; exit 1; }
     exit 0
 fi
