@@ -302,7 +302,7 @@ static nt_status read_layers(const jr *r, const json_t *arr, double offx, double
         snprintf(what, sizeof what, "layer %s", tl_quote(q, name));
         if ((s = get_str(r, o, "type", what, NULL, &type)) != NT_OK) return s;
         if (!type) return bad(r, what, "missing \"type\"");
-        double ox, oy;
+        double ox = 0, oy = 0;
         if ((s = get_num(r, o, "offsetx", what, 0, &ox)) != NT_OK || (s = get_num(r, o, "offsety", what, 0, &oy)) != NT_OK)
             return s;
         if (strcmp(type, "group") == 0) {

@@ -397,7 +397,7 @@ static nt_status read_layers(xb *b, const xnode *parent, double offx, double off
         const char *name = str_or(attr(n, "name"), "");
         char what[128], q[64];
         snprintf(what, sizeof what, "layer %s", tl_quote(q, name));
-        double ox, oy;
+        double ox = 0, oy = 0;
         if ((s = get_num(b, n, "offsetx", what, &ox)) != NT_OK || (s = get_num(b, n, "offsety", what, &oy)) != NT_OK)
             return s;
         if (group) {
