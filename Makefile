@@ -64,13 +64,18 @@ GAME_OBJ := $(GAME_SRC:%.c=$(OBJ)/%.o)
 GAME_LIB := $(BUILD)/libntile-game.a
 CLI_SRC := $(wildcard tools/ntile/*.c)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
+# The Tiled importer (ntile convert tiled): CLI side only, it reads files and needs
+# Debian's jansson (JSON), expat (XML) and zlib; never part of the engine library.
+TILED_SRC := $(wildcard tools/tiled/*.c)
+TILED_OBJ := $(TILED_SRC:%.c=$(OBJ)/%.o)
+TILED_LIBS := -ljansson -lexpat -lz
 TEST_SRC := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
 .PHONY: all lib cli test asan valgrind determinism fuzz soak run clean deps-cc deps-test deps-cxx deps-pkgconfig \
-        install uninstall check-install check-headers sheet bench bench-sweep bench-peers deps-peers
+        deps-tiled install uninstall check-install check-headers sheet bench bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -87,8 +92,14 @@ deps-cxx:
 	@tools/deps.sh cc cxx
 deps-pkgconfig:
 	@tools/deps.sh cc pkgconfig
+deps-tiled:
+	@tools/deps.sh cc tiled
 
 $(OBJ)/%.o: %.c | deps-cc
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
+
+$(OBJ)/tools/tiled/%.o: tools/tiled/%.c | deps-tiled
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -MMD -MP -c $< -o $@
 
@@ -107,20 +118,25 @@ $(GAME_LIB): $(GAME_OBJ) $(STAMP)
 	@rm -f $@
 	ar rcs $@ $(GAME_OBJ)
 
-$(BUILD)/ntile: $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
-	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(LIBS)
+$(BUILD)/ntile: $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-tiled
+	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(TILED_LIBS) $(LIBS)
 
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
-# (test_bench also with the benchmark's metric, scene, outline and plot code).
+# (test_bench also with the benchmark's metric, scene, outline and plot code;
+# test_tiled with the Tiled importer).
 TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o))
 .SECONDEXPANSION:
 $(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $$(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(LIBS)
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(TEST_LIB_OBJ) $(TEST_EXTRA_OBJ) $(TEST_EXTRA) $(GAME_LIB) $(BUILD)/libntile.a -lcmocka $(TEST_EXTRA_LIBS) $(LIBS)
+
+$(BUILD)/tests/test_tiled: $(TILED_OBJ)
+$(BUILD)/tests/test_tiled: TEST_EXTRA = $(TILED_OBJ)
+$(BUILD)/tests/test_tiled: TEST_EXTRA_LIBS = $(TILED_LIBS)
 
 $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -Isrc -Itools/ntile -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_ALL) -Isrc -Itools -Itools/ntile -MMD -MP -c $< -o $@
 
 test: deps-test $(TEST_BIN) $(BUILD)/ntile
 	@pass=0; fail=0; for t in $(TEST_BIN); do \
@@ -167,15 +183,16 @@ determinism:
 # corpus in build/fuzz. Any crash, leak, sanitizer report or timeout fails the target.
 FUZZ_SECONDS ?= 60
 FUZZ_CFLAGS := -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-               -ffp-contract=off -Iinclude -Itests $(DEFS) $(WARN)
+               -ffp-contract=off -Iinclude -Itests -Itools $(DEFS) $(WARN)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_EXTRA_query := tools/ntile/query.c
 fuzz:
-	@tools/deps.sh clang fuzzer
+	@tools/deps.sh clang fuzzer tiled
 	@mkdir -p build/fuzz
 	@set -e; for n in $(FUZZ_NAMES); do \
-	  extra=""; [ "$$n" = query ] && extra="$(FUZZ_EXTRA_query)"; \
-	  clang $(FUZZ_CFLAGS) tests/fuzz/fuzz_$$n.c $$extra $(LIB_SRC) -lm -o build/fuzz/fuzz_$$n; \
+	  extra=""; libs=""; [ "$$n" = query ] && extra="$(FUZZ_EXTRA_query)"; \
+	  [ "$$n" = tiled ] && { extra="$(TILED_SRC)"; libs="$(TILED_LIBS)"; }; \
+	  clang $(FUZZ_CFLAGS) tests/fuzz/fuzz_$$n.c $$extra $(LIB_SRC) $$libs -lm -o build/fuzz/fuzz_$$n; \
 	  mkdir -p build/fuzz/work_$$n tests/fuzz/corpus/$$n; \
 	  echo "== fuzz $$n ($(FUZZ_SECONDS) s)"; \
 	  build/fuzz/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \

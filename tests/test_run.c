@@ -436,7 +436,7 @@ static void test_usage_errors(void **state)
         {{"run", "--level", path_of("lvl.ntl"), "--ticks", "5", "--input", "3Q", NULL}, 2,
          "ntile run: --input:1:2: unknown key 'Q' (keys are L R U D J A; '.' alone means none)\n"},
         {{"run", "--level", path_of("nope.ntl"), "--ticks", "5", NULL}, 2, "ntile run: cannot open '"},
-        {{"convert", "n15", "x", NULL}, 2, "ntile convert: unknown format 'n15' (this ntile converts n14)\n"},
+        {{"convert", "n15", "x", NULL}, 2, "ntile convert: unknown format 'n15' (this ntile converts n14 and tiled)\n"},
         {{"convert", "n14", NULL}, 2, "ntile convert: missing the input FILE\n"},
         {{"convert", "n14", path_of("nope.txt"), NULL}, 2, "ntile convert: cannot open '"},
     };

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
 # Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb,
-#                                    valgrind, chipmunk, box2d)
+#                                    valgrind, chipmunk, box2d; tiled: jansson, expat and zlib for the
+#                                    Tiled importer of the ntile CLI)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
 set -u
@@ -26,6 +27,10 @@ for f in "$@"; do
                 | clang -x c - -fsanitize=fuzzer -o /dev/null >/dev/null 2>&1; then
             missing="$missing libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
         fi ;;
+    tiled)
+        have_header jansson.h -ljansson || missing="$missing libjansson-dev"
+        have_header expat.h -lexpat || missing="$missing libexpat1-dev"
+        have_header zlib.h -lz || missing="$missing zlib1g-dev" ;;
     pkgconfig) command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config" ;;
     sdl2) command -v sdl2-config >/dev/null 2>&1 || missing="$missing libsdl2-dev" ;;
     xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb" ;;
@@ -37,7 +42,8 @@ done
 if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
     echo "ntile: installing missing Debian packages:$missing"
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq && apt-get install -y -qq $missing >/dev/null || {
+    # make -j may run two of these at once (cmocka, tiled): the second waits for dpkg's lock
+    apt-get update -qq && apt-get install -y -qq -o DPkg::Lock::Timeout=600 $missing >/dev/null || {
         echo "ntile: apt-get install failed for:$missing" >&2; exit 1; }
     exit 0
 fi

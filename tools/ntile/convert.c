@@ -1,5 +1,10 @@
 /* ntile convert — level conversions.
  *
+ *   ntile convert tiled MAP.tmj|MAP.tmx [-o OUT.ntl]
+ *       Convert a Tiled map (JSON or XML; external tilesets are read relative to
+ *       the map) to .ntl (tools/tiled/, README "Importing Tiled maps"). Warnings
+ *       go to standard error.
+ *
  *   ntile convert n14 FILE [--index N] [-o OUT.ntl]
  *       Convert the N-th N v1.4 level string of FILE (default the first; one level
  *       per line) to .ntl, written to OUT.ntl or standard output. Objects ntile does
@@ -14,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "../tiled/tiled.h"
 #include "cli.h"
 #include "ntile/ntile.h"
 
@@ -24,7 +30,10 @@ void cli_convert_usage(FILE *f)
           "      line; --index picks the N-th, default 1) to .ntl on standard output or\n"
           "      OUT.ntl. Unsupported objects are skipped with a warning on stderr.\n"
           "  ntile convert n14 FILE --list\n"
-          "      List the levels in FILE (index and name).\n",
+          "      List the levels in FILE (index and name).\n"
+          "  ntile convert tiled MAP.tmj|MAP.tmx [-o OUT.ntl]\n"
+          "      Convert a Tiled map (orthogonal, square tiles; tile property 'ntile' names\n"
+          "      the N tile) to .ntl on standard output or OUT.ntl. Warnings on stderr.\n",
           f);
 }
 
@@ -67,6 +76,71 @@ static int list_levels(const char *path, const char *text, size_t len)
     return status;
 }
 
+/* Write the canonical text of lv to `out` (or standard output); frees nothing. */
+static int write_level(const nt_level *lv, const char *out)
+{
+    char why[600];
+    size_t n = nt_level_write(lv, NULL, 0);
+    char *buf = malloc(n + 1);
+    int status = CLI_OK;
+    if (!buf) {
+        fprintf(stderr, "ntile convert: out of memory\n");
+        status = CLI_USAGE;
+    } else {
+        nt_level_write(lv, buf, n + 1);
+        if (out) {
+            if (!cli_write_file(out, buf, n, why, sizeof why)) {
+                fprintf(stderr, "ntile convert: %s\n", why);
+                status = CLI_USAGE;
+            }
+        } else if (fwrite(buf, 1, n, stdout) != n || fflush(stdout) != 0) {
+            fprintf(stderr, "ntile convert: error writing the output\n");
+            status = CLI_USAGE;
+        }
+    }
+    free(buf);
+    return status;
+}
+
+static int convert_tiled(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
+            if (i + 1 >= argc) return usage_error("%s needs a file name", a);
+            out = argv[++i];
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return usage_error("unknown option '%s'", a);
+        } else if (in) {
+            return usage_error("more than one input file ('%s')", a);
+        } else {
+            in = a;
+        }
+    }
+    if (!in) return usage_error("%s", "missing the input MAP.tmj or MAP.tmx");
+    if (strcmp(in, "-") == 0) return usage_error("%s", "a Tiled map is read from a file (its tilesets are found beside it), not '-'");
+    char *text;
+    size_t len;
+    char why[600];
+    if (!cli_read_file(in, &text, &len, why, sizeof why)) {
+        fprintf(stderr, "ntile convert: %s\n", why);
+        return CLI_USAGE;
+    }
+    nt_level *lv = NULL;
+    nt_text_error e;
+    int warnings = 0;
+    nt_status s = tiled_import(in, text, len, &lv, &e, on_warning, &warnings);
+    free(text);
+    if (s != NT_OK) {
+        fprintf(stderr, "%s\n", e.message);
+        return CLI_INPUT_ERRORS;
+    }
+    int status = write_level(lv, out);
+    nt_level_destroy(lv);
+    return status;
+}
+
 int cli_convert(int argc, char **argv)
 {
     if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
@@ -74,8 +148,9 @@ int cli_convert(int argc, char **argv)
         cli_convert_usage(stdout);
         return CLI_OK;
     }
-    if (argc < 2) return usage_error("%s", "missing the format (n14)");
-    if (strcmp(argv[1], "n14") != 0) return usage_error("unknown format '%s' (this ntile converts n14)", argv[1]);
+    if (argc < 2) return usage_error("%s", "missing the format (n14 or tiled)");
+    if (strcmp(argv[1], "tiled") == 0) return convert_tiled(argc, argv);
+    if (strcmp(argv[1], "n14") != 0) return usage_error("unknown format '%s' (this ntile converts n14 and tiled)", argv[1]);
     const char *in = NULL, *out = NULL;
     long index = 1;
     int list = 0;
@@ -125,25 +200,7 @@ int cli_convert(int argc, char **argv)
     }
     if (count > 1 && index == 1)
         fprintf(stderr, "ntile convert: %s holds %d levels; converted the first (choose one with --index N)\n", in, count);
-    size_t n = nt_level_write(lv, NULL, 0);
-    char *buf = malloc(n + 1);
-    int status = CLI_OK;
-    if (!buf) {
-        fprintf(stderr, "ntile convert: out of memory\n");
-        status = CLI_USAGE;
-    } else {
-        nt_level_write(lv, buf, n + 1);
-        if (out) {
-            if (!cli_write_file(out, buf, n, why, sizeof why)) {
-                fprintf(stderr, "ntile convert: %s\n", why);
-                status = CLI_USAGE;
-            }
-        } else if (fwrite(buf, 1, n, stdout) != n || fflush(stdout) != 0) {
-            fprintf(stderr, "ntile convert: error writing the output\n");
-            status = CLI_USAGE;
-        }
-    }
-    free(buf);
+    int status = write_level(lv, out);
     nt_level_destroy(lv);
     return status;
 }

@@ -5,6 +5,7 @@
  *   ntile bench SCENE      time a part of the engine
  *   ntile run FILE.ntr...  replay levels headless and check their expectations
  *   ntile convert n14 FILE convert an N v1.4 level to .ntl
+ *   ntile convert tiled MAP  convert a Tiled map (.tmx, .tmj) to .ntl
  *   ntile sheet [-o FILE]  the answer-key sheet (SVG)
  *   ntile help             this text
  */
