@@ -44,14 +44,6 @@ static int group_setup(void **state)
     /* No display needed: SDL's dummy video driver (a test may choose another). */
     setenv("SDL_VIDEODRIVER", "dummy", 1);
     setenv("SDL_AUDIODRIVER", "dummy", 1);
-    /* Under AddressSanitizer, LeakSanitizer must not count what the system libraries
-     * SDL loads keep until exit (see the suppression file). */
-    static char lsan[4400];
-    char cwd[4096];
-    if (getcwd(cwd, sizeof cwd)) {
-        snprintf(lsan, sizeof lsan, "suppressions=%s/tools/ntile-play/lsan.supp:print_suppressions=0", cwd);
-        setenv("LSAN_OPTIONS", lsan, 0);
-    }
     return 0;
 }
 
@@ -157,6 +149,9 @@ static int temp_fd(void)
     return fd;
 }
 
+/* The video driver of the next child run (NULL: the group's, dummy). */
+static const char *g_child_driver;
+
 static const char *play_exe(void)
 {
     const char *exe = getenv("NTILE_PLAY");
@@ -182,6 +177,8 @@ static void run_exe(run_result *r, const char *exe, const char *const *args)
         argv[n] = args[n - 1];
     }
     argv[n] = NULL;
+    const char *driver = g_child_driver;
+    g_child_driver = NULL; /* one run only, even if this one fails */
     int out_fd = temp_fd(), err_fd = temp_fd();
     fflush(NULL);
     pid_t pid = fork();
@@ -191,6 +188,7 @@ static void run_exe(run_result *r, const char *exe, const char *const *args)
         if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
         setenv("ASAN_OPTIONS", "exitcode=99", 0);
         setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
+        if (driver) setenv("SDL_VIDEODRIVER", driver, 1);
         execv(exe, (char *const *)argv);
         _exit(126);
     }
@@ -775,10 +773,9 @@ static void test_offscreen_driver(void **state)
     (void)state;
     const char *a = path_of("dummy.bmp"), *b = path_of("offscreen.bmp");
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "30", LAB_VIEW, "--screenshot", a, NULL});
-    setenv("SDL_VIDEODRIVER", "offscreen", 1);
     run_result r;
+    g_child_driver = "offscreen";
     run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "30", LAB_VIEW, "--screenshot", b, NULL});
-    setenv("SDL_VIDEODRIVER", "dummy", 1);
     if (r.status != 0 && strstr(r.err, "cannot")) {
         print_message("skipped: SDL's offscreen video driver is not available here: %s", r.err);
         run_free(&r);

@@ -549,6 +549,11 @@ int main(int argc, char **argv)
         free(sc.e);
         return 1;
     }
+    /* Offscreen and dummy drivers have their own framebuffer: do not let SDL load an
+     * OpenGL/EGL stack to draw a plain surface (an environment variable still wins). */
+    const char *driver = SDL_GetCurrentVideoDriver();
+    if (driver && (strcmp(driver, "offscreen") == 0 || strcmp(driver, "dummy") == 0))
+        SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0", SDL_HINT_DEFAULT);
     char title[256];
     snprintf(title, sizeof title, "ntile-play %d.%d.%d", NT_VERSION_MAJOR, NT_VERSION_MINOR, NT_VERSION_PATCH);
     SDL_Window *win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, a.w, a.h, SDL_WINDOW_RESIZABLE);

@@ -128,11 +128,28 @@ static int read_file(const char *path, char **out, size_t *len, char *why, size_
     return 1;
 }
 
+/* out = a + b + c; 0 (and out empty) when it does not fit. */
+static int join(char *out, size_t cap, const char *a, const char *b, const char *c)
+{
+    size_t la = strlen(a), lb = strlen(b), lc = strlen(c);
+    out[0] = '\0';
+    if (la + lb + lc + 1 > cap) return 0;
+    memcpy(out, a, la);
+    memcpy(out + la, b, lb);
+    memcpy(out + la + lb, c, lc + 1);
+    return 1;
+}
+
 /* Write through a temporary sibling and rename: a failed write leaves the old file. */
 static int write_file(const char *path, const char *data, size_t len, char *why, size_t cap)
 {
     char tmp[PG_PATH_MAX + 32];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    char suffix[32];
+    snprintf(suffix, sizeof suffix, ".tmp%ld", (long)getpid());
+    if (!join(tmp, sizeof tmp, path, suffix, "")) {
+        snprintf(why, cap, "cannot write '%.200s': the name is too long", path);
+        return 0;
+    }
     FILE *f = fopen(tmp, "wb");
     if (!f) {
         snprintf(why, cap, "cannot write '%s': %s", path, strerror(errno));
@@ -244,8 +261,7 @@ static void find_levels_dir(const pg_options *o, char *out, size_t cap)
     }
     for (int i = 0; i < 3; i++) {
         if (!cands[i]) continue;
-        snprintf(probe, sizeof probe, "%s/ninja.ntl", cands[i]);
-        if (file_exists(probe)) {
+        if (join(probe, sizeof probe, cands[i], "/ninja.ntl", "") && file_exists(probe)) {
             snprintf(out, cap, "%s", cands[i]);
             return;
         }
@@ -1165,12 +1181,13 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
         }
         char dir[PG_PATH_MAX];
         dir_name(opt->replay_path, dir, sizeof dir);
-        if (p->replay->level[0] == '/') snprintf(first, sizeof first, "%s", p->replay->level);
-        else if (strlen(dir) + strlen(p->replay->level) + 2 > sizeof first) {
+        int fits = p->replay->level[0] == '/' ? join(first, sizeof first, p->replay->level, "", "")
+                                               : join(first, sizeof first, dir, "/", p->replay->level);
+        if (!fits) {
             snprintf(why, cap, "%s: the level path is too long", opt->replay_path);
             pg_destroy(p);
             return NULL;
-        } else snprintf(first, sizeof first, "%.3000s/%.1023s", dir, p->replay->level);
+        }
         snprintf(p->replay_path, sizeof p->replay_path, "%s", opt->replay_path);
         p->gdef.override_seed = p->replay->has_seed;
         p->gdef.seed = p->replay->seed;
@@ -1184,9 +1201,14 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
     char lvdir[PG_PATH_MAX];
     find_levels_dir(&o2, lvdir, sizeof lvdir);
     if (!opt->replay_path) {
-        if (opt->level_path) snprintf(first, sizeof first, "%s", opt->level_path);
-        else if (lvdir[0]) snprintf(first, sizeof first, "%s/ninja.ntl", lvdir);
-        else {
+        if (opt->level_path) {
+            if (!join(first, sizeof first, opt->level_path, "", "")) {
+                snprintf(why, cap, "the level path is too long");
+                pg_destroy(p);
+                return NULL;
+            }
+        } else if (lvdir[0] && join(first, sizeof first, lvdir, "/ninja.ntl", "")) {
+        } else {
             snprintf(why, cap, "no level given and no levels/ directory found (run from the ntile directory, or pass LEVEL or --levels DIR)");
             pg_destroy(p);
             return NULL;
@@ -1194,9 +1216,9 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
     }
     int start = -1;
     for (int i = 0; lvdir[0] && i < SHIPPED_COUNT; i++) {
-        char path[PG_PATH_MAX + 64];
-        snprintf(path, sizeof path, "%s/%s.ntl", lvdir, shipped[i]);
-        if (!file_exists(path)) continue;
+        char path[PG_PATH_MAX + 64], name[32];
+        snprintf(name, sizeof name, "/%s.ntl", shipped[i]);
+        if (!join(path, sizeof path, lvdir, name, "") || !file_exists(path)) continue;
         bool is_first = start < 0 && same_file(path, first);
         if (is_first) start = p->level_count;
         p->levels[p->level_count] = strdup(is_first ? first : path);

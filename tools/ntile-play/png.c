@@ -17,7 +17,7 @@ typedef struct out {
 
 static void put(out *o, const void *data, size_t n)
 {
-    if (o->oom) return;
+    if (o->oom || n == 0) return;
     if (o->n + n > o->cap) {
         size_t cap = o->cap ? o->cap : 4096;
         while (cap < o->n + n) cap *= 2;
