@@ -158,9 +158,11 @@ VALGRIND := valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-
             --show-leak-kinds=definite,indirect --trace-children=yes
 valgrind:
 	@tools/deps.sh cc cmocka valgrind
-	@$(MAKE) --no-print-directory BUILD=$(BUILD_VG) OPT="-O1 -g" $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%) $(BUILD_VG)/ntile
+	@$(MAKE) --no-print-directory BUILD=$(BUILD_VG) OPT="-O1 -g" $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%) $(BUILD_VG)/ntile \
+	  $(if $(PLAY_TARGET),$(BUILD_VG)/ntile-play)
 	@pass=0; fail=0; for t in $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%); do \
-	  echo "== valgrind $$t"; if NTILE=$(BUILD_VG)/ntile $(VALGRIND) $$t >$$t.vg.log 2>&1; then pass=$$((pass+1)); \
+	  echo "== valgrind $$t"; if NTILE=$(BUILD_VG)/ntile NTILE_PLAY=$(if $(PLAY_TARGET),$(BUILD_VG)/ntile-play) \
+	    $(VALGRIND) $$t >$$t.vg.log 2>&1; then pass=$$((pass+1)); \
 	  else fail=$$((fail+1)); tail -30 $$t.vg.log; echo "FAILED: $$t"; fi; \
 	done; echo "valgrind: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
@@ -216,8 +218,8 @@ play-bin: lib cli
 
 # The README's screenshot, made by the playground itself (no display needed).
 screenshot: play-bin
-	SDL_VIDEODRIVER=dummy $(BUILD)/ntile-play --replay tests/replays/ninja.ntr --frames 262 --size 960x600 \
-	  --gizmos edges,velocities,split,contacts,rays --mouse 470 150 --screenshot tools/ntile-play/screenshot.png
+	SDL_VIDEODRIVER=dummy $(BUILD)/ntile-play --replay tests/replays/ninja.ntr --frames 150 --size 960x600 \
+	  --gizmos edges,grid,velocities,split,contacts,rays --mouse 300 200 --screenshot tools/ntile-play/screenshot.png
 
 # The headless alternative: replay the default level.
 run: $(BUILD)/ntile

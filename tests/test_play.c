@@ -533,6 +533,44 @@ static void test_tiles_and_bodies(void **state)
     free(im.px);
 }
 
+/* Render interpolation: with --alpha A a body is drawn A of the way from where it
+ * was before the last tick to where it is (its arrows move with it). */
+static void test_interpolation(void **state)
+{
+    (void)state;
+    const char *a0 = path_of("alpha0.bmp"), *a5 = path_of("alpha5.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0", "--screenshot", a0, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0.5", "--screenshot", a5, NULL});
+    image i0 = load_bmp(a0), i5 = load_bmp(a5);
+    nt_vec2 p39 = body_after("levels/lab.ntl", "puck_a", 39), p40 = body_after("levels/lab.ntl", "puck_a", 40);
+    assert_true(p40.x - p39.x > 2.9f); /* 3 units (6 pixels) a tick */
+    uint32_t fill = PG_BODY_FILL(PG_ENGINE_AWAKE);
+    /* Radius 10 units = 20 pixels: the right edge is where the centre drawn puts it. */
+    expect_pixel(&i0, LAB_PX(p39.x) + 18, LAB_PX(p39.y), fill, "alpha 0: inside the puck at its tick-39 place");
+    expect_pixel(&i0, LAB_PX(p40.x) + 18, LAB_PX(p40.y), PG_COLOR_BG, "alpha 0: not at its tick-40 place");
+    double mid = 0.5 * ((double)p39.x + (double)p40.x);
+    expect_pixel(&i5, LAB_PX(mid) + 18, LAB_PX(p40.y), fill, "alpha 0.5: inside the puck half way");
+    expect_pixel(&i5, LAB_PX(mid) + 22, LAB_PX(p40.y), PG_COLOR_BG, "alpha 0.5: just outside it");
+    free(i0.px);
+    free(i5.px);
+}
+
+/* A resize (scripted, as a window manager would) gives frames of the new size, the
+ * strip on the new right edge. */
+static void test_resize(void **state)
+{
+    (void)state;
+    write_text("resize.script", "2 resize 640 400\n");
+    const char *out = path_of("resized.bmp");
+    play_ok((const char *[]){"levels/ninja.ntl", "--script", path_of("resize.script"), "--frames", "4", "--screenshot", out, NULL});
+    image im = load_bmp(out);
+    assert_int_equal(im.w, 640);
+    assert_int_equal(im.h, 400);
+    expect_pixel(&im, 639, 399, PG_COLOR_STRIP, "the strip's background at the new size");
+    assert_true(count_color(&im, 0, 0, 560, 400, PG_COLOR_TILE) > 10000); /* the level, scaled to fit */
+    free(im.px);
+}
+
 /* The velocity gizmo: arrows in the engine's colour from each puck's centre along
  * its velocity when enabled, none anywhere when not; the same for edge states. */
 static void test_gizmo_on_off(void **state)
@@ -827,6 +865,7 @@ static void test_errors(void **state)
         {{"--frames"}, 2, "--frames needs 1 argument"},
         {{"--size", "12x9000"}, 2, "--size '12x9000'"},
         {{"--zoom", "nan"}, 2, "--zoom 'nan'"},
+        {{"--alpha", "2"}, 2, "--alpha '2'"},
         {{"a.ntl", "b.ntl"}, 2, "more than one level"},
         {{"levels/ninja.ntl", "--replay", "tests/replays/lab.ntr"}, 2, "not both"},
         {{"no/such/level.ntl", "--frames", "1"}, 1, "cannot open 'no/such/level.ntl'"},
@@ -858,7 +897,8 @@ static void test_errors(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_gizmo_on_off),
+        cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_interpolation),
+        cmocka_unit_test(test_resize),             cmocka_unit_test(test_gizmo_on_off),
         cmocka_unit_test(test_hud_and_palette),    cmocka_unit_test(test_record_replay),
         cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),

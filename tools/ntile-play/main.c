@@ -38,6 +38,9 @@ static void usage(FILE *f)
           "  --center X Y         fixed camera centre in world units (default: follow the player)\n"
           "  --mouse X Y          initial mouse position in window pixels (for the ray gizmo)\n"
           "  --no-hud             no HUD, tile strip or help: the view fills the window\n"
+          "  --alpha A            one tick per frame: draw bodies the fraction A (0..1) of the way\n"
+          "                       from their previous tick to the last one (default 1; tests the\n"
+          "                       render interpolation, which real time does by the clock)\n"
           "  --levels DIR         where the shipped levels are (default: found next to LEVEL,\n"
           "                       in ./levels, or next to the program)\n"
           "  --save-dir DIR       where F2 and F5 write (default: .)\n"
@@ -50,7 +53,7 @@ static void usage(FILE *f)
           "Script lines (FRAME counts from 1; events are handled at the start of that frame):\n"
           "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...)\n"
           "  FRAME mouse down|up left|middle|right X Y | FRAME mouse move X Y | FRAME wheel DY\n"
-          "  FRAME quit\n"
+          "  FRAME resize W H | FRAME quit\n"
           "\n"
           "Exit status: 0 ok, 1 runtime error (level, replay, window, file), 2 usage error.\n"
           "Without a display: SDL_VIDEODRIVER=dummy (or offscreen) with --frames and --screenshot.\n",
@@ -61,6 +64,7 @@ static void usage(FILE *f)
 
 typedef struct script_event {
     int frame, order;
+    int resize_w, resize_h; /* > 0: resize the window instead of pushing ev */
     SDL_Event ev;
 } script_event;
 
@@ -69,7 +73,7 @@ typedef struct script {
     int n, cap, next;
 } script;
 
-static int script_add(script *s, int frame, const SDL_Event *ev)
+static int script_add(script *s, int frame, const SDL_Event *ev, int resize_w, int resize_h)
 {
     if (s->n == s->cap) {
         int cap = s->cap ? s->cap * 2 : 64;
@@ -80,6 +84,8 @@ static int script_add(script *s, int frame, const SDL_Event *ev)
     }
     s->e[s->n].frame = frame;
     s->e[s->n].order = s->n;
+    s->e[s->n].resize_w = resize_w;
+    s->e[s->n].resize_h = resize_h;
     s->e[s->n].ev = *ev;
     s->n++;
     return 1;
@@ -134,7 +140,7 @@ static int load_script(const char *path, script *s)
         if (!parse_int(w[0], 1, 100000000, &frame)) why = "the frame must be a number from 1";
         else if (n == 2 && strcmp(w[1], "quit") == 0) {
             ev.type = SDL_QUIT;
-            ok = script_add(s, (int)frame, &ev);
+            ok = script_add(s, (int)frame, &ev, 0, 0);
         } else if (n == 3 && (strcmp(w[1], "down") == 0 || strcmp(w[1], "up") == 0 || strcmp(w[1], "press") == 0)) {
             SDL_Keycode k = SDL_GetKeyFromName(w[2]);
             if (k == SDLK_UNKNOWN) why = "unknown key name (SDL names: Left, Right, Up, Down, Z, Space, F5, ...)";
@@ -144,11 +150,11 @@ static int load_script(const char *path, script *s)
                 ev.key.keysym.mod = KMOD_NONE;
                 ev.type = strcmp(w[1], "up") == 0 ? SDL_KEYUP : SDL_KEYDOWN;
                 ev.key.state = ev.type == SDL_KEYDOWN ? SDL_PRESSED : SDL_RELEASED;
-                ok = script_add(s, (int)frame, &ev);
+                ok = script_add(s, (int)frame, &ev, 0, 0);
                 if (ok && strcmp(w[1], "press") == 0) {
                     ev.type = SDL_KEYUP;
                     ev.key.state = SDL_RELEASED;
-                    ok = script_add(s, (int)frame + 1, &ev);
+                    ok = script_add(s, (int)frame + 1, &ev, 0, 0);
                 }
             }
         } else if (n >= 2 && strcmp(w[1], "mouse") == 0) {
@@ -157,7 +163,7 @@ static int load_script(const char *path, script *s)
                 ev.type = SDL_MOUSEMOTION;
                 ev.motion.x = (int)x;
                 ev.motion.y = (int)y;
-                ok = script_add(s, (int)frame, &ev);
+                ok = script_add(s, (int)frame, &ev, 0, 0);
             } else if (n == 6 && (strcmp(w[2], "down") == 0 || strcmp(w[2], "up") == 0) && parse_double(w[4], &x) &&
                        parse_double(w[5], &y)) {
                 int b = strcmp(w[3], "left") == 0 ? SDL_BUTTON_LEFT
@@ -171,16 +177,22 @@ static int load_script(const char *path, script *s)
                     ev.button.state = ev.type == SDL_MOUSEBUTTONDOWN ? SDL_PRESSED : SDL_RELEASED;
                     ev.button.x = (int)x;
                     ev.button.y = (int)y;
-                    ok = script_add(s, (int)frame, &ev);
+                    ok = script_add(s, (int)frame, &ev, 0, 0);
                 }
             } else why = "expected 'mouse move X Y' or 'mouse down|up BUTTON X Y'";
+        } else if (n == 4 && strcmp(w[1], "resize") == 0) {
+            long rw, rh;
+            if (!parse_int(w[2], 160, 8192, &rw) || !parse_int(w[3], 120, 8192, &rh))
+                why = "resize needs a width (160..8192) and a height (120..8192)";
+            else
+                ok = script_add(s, (int)frame, &ev, (int)rw, (int)rh); /* the window is resized, as a user would */
         } else if (n == 3 && strcmp(w[1], "wheel") == 0) {
             double dy;
             if (!parse_double(w[2], &dy)) why = "wheel needs a number";
             else {
                 ev.type = SDL_MOUSEWHEEL;
                 ev.wheel.y = (Sint32)dy;
-                ok = script_add(s, (int)frame, &ev);
+                ok = script_add(s, (int)frame, &ev, 0, 0);
             }
         } else why = "expected FRAME down|up|press KEY, FRAME mouse ..., FRAME wheel DY or FRAME quit";
         if (why) {
@@ -416,6 +428,7 @@ static int parse_args(int argc, char **argv, args *a)
     memset(a, 0, sizeof *a);
     a->o.hud = true;
     a->o.gizmos = 0;
+    a->o.fixed_alpha = 1;
     a->w = 1024, a->h = 640;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
@@ -471,6 +484,10 @@ static int parse_args(int argc, char **argv, args *a)
                 return bad(s, argv[i + 1], "expected two numbers X Y");
             a->has_mouse = true;
             i += 2;
+        } else if (strcmp(s, "--alpha") == 0) {
+            if (!need(argc, argv, i, 1)) return 0;
+            if (!parse_double(argv[++i], &a->o.fixed_alpha) || !(a->o.fixed_alpha >= 0 && a->o.fixed_alpha <= 1))
+                return bad(s, argv[i], "expected a fraction in 0..1");
         } else if (strcmp(s, "--no-hud") == 0) {
             a->o.hud = false;
         } else if (strcmp(s, "--levels") == 0) {
@@ -581,7 +598,12 @@ int main(int argc, char **argv)
     while (!quit) {
         frame++;
         while (sc.next < sc.n && sc.e[sc.next].frame <= frame) {
-            SDL_Event ev = sc.e[sc.next++].ev;
+            const script_event *se = &sc.e[sc.next++];
+            if (se->resize_w > 0) {
+                SDL_SetWindowSize(win, se->resize_w, se->resize_h);
+                continue;
+            }
+            SDL_Event ev = se->ev;
             ev.common.timestamp = SDL_GetTicks();
             SDL_PushEvent(&ev);
         }
@@ -619,7 +641,8 @@ int main(int argc, char **argv)
     }
     if (a.screenshot && !save_screenshot(&canvas, a.screenshot)) rc = 1;
     else if (a.screenshot)
-        printf("ntile-play: frame %ld (tick %d) saved to %s\n", frame, pg_tick_count(p), a.screenshot);
+        printf("ntile-play: frame %ld (tick %d, video driver %s) saved to %s\n", frame, pg_tick_count(p),
+               SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "?", a.screenshot);
 done:
     pg_finish(p);
     if (pg_message(p)[0]) printf("ntile-play: %s\n", pg_message(p));

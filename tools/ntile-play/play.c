@@ -478,7 +478,8 @@ static void tick(pg *p)
     snapshot_positions(p);
     double px0 = 0, py0 = 0, ke0 = 0;
     if (p->lab) pg__mechanics(p, &px0, &py0, &ke0);
-    uint32_t keys = p->replay_on ? nt_replay_keys_at(p->replay, st0.tick + 1) : p->keys;
+    /* A replay's inputs while it lasts; then the keyboard takes over. */
+    uint32_t keys = p->replay_on && st0.tick < p->replay->ticks ? nt_replay_keys_at(p->replay, st0.tick + 1) : p->keys;
     double t0 = mono_seconds();
     nt_status s = nt_game_step(p->game, keys, p->dt);
     double us = (mono_seconds() - t0) * 1e6;
@@ -543,7 +544,7 @@ int pg_advance_frame(pg *p)
 double pg__alpha(const pg *p)
 {
     /* Fixed mode draws each tick as it is; real time draws between the last two ticks. */
-    double a = p->paused || p->fixed ? 1.0 : p->acc / (double)p->dt;
+    double a = p->paused ? 1.0 : p->fixed ? p->opt.fixed_alpha : p->acc / (double)p->dt;
     return a < 0 ? 0 : a > 1 ? 1 : a;
 }
 
@@ -1135,7 +1136,7 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
     }
     p->opt = *opt;
     p->slow = 1;
-    p->proj_scale = 100;
+    p->proj_scale = 10;
     p->gizmos = opt->gizmos;
     p->throw_circle = true;
     p->tile = NT_TILE_FULL;

@@ -87,6 +87,7 @@ typedef struct pg_options {
     bool hud;                /* HUD, palette strip and help */
     bool has_zoom, has_center;
     double zoom, center_x, center_y;
+    double fixed_alpha;      /* fixed mode: draw bodies this far from the previous tick to the current one (1) */
 } pg_options;
 
 /* ---------------------------------------------------------------- the playground */
