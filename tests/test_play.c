@@ -149,7 +149,7 @@ static int temp_fd(void)
     return fd;
 }
 
-/* The video driver of the next child run (NULL: the group's, dummy). */
+/* The video driver of the next child run (NULL: the group's, dummy; "": none and no display). */
 static const char *g_child_driver;
 
 static const char *play_exe(void)
@@ -188,7 +188,12 @@ static void run_exe(run_result *r, const char *exe, const char *const *args)
         if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
         setenv("ASAN_OPTIONS", "exitcode=99", 0);
         setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
-        if (driver) setenv("SDL_VIDEODRIVER", driver, 1);
+        if (driver && *driver) setenv("SDL_VIDEODRIVER", driver, 1);
+        if (driver && !*driver) { /* "": no display at all, no driver asked for */
+            unsetenv("SDL_VIDEODRIVER");
+            unsetenv("DISPLAY");
+            unsetenv("WAYLAND_DISPLAY");
+        }
         execv(exe, (char *const *)argv);
         _exit(126);
     }
@@ -877,6 +882,16 @@ static void test_errors(void **state)
         run_play(&r, cases[i].args);
         expect_status(&r, cases[i].status);
         expect_in(r.err, cases[i].msg);
+        run_free(&r);
+    }
+    /* No display and no driver asked for: an error, not a window nobody sees. */
+    {
+        run_result r;
+        g_child_driver = "";
+        run_play(&r, (const char *[]){"levels/ninja.ntl", NULL});
+        expect_status(&r, 1);
+        if (!strstr(r.err, "no display found") && !strstr(r.err, "cannot start SDL video"))
+            fail_msg("expected a message about the missing display, got:\n%s", r.err);
         run_free(&r);
     }
     /* A malformed level: the parser's FILE:LINE:COL message. */

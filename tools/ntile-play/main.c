@@ -569,8 +569,22 @@ int main(int argc, char **argv)
     /* Offscreen and dummy drivers have their own framebuffer: do not let SDL load an
      * OpenGL/EGL stack to draw a plain surface (an environment variable still wins). */
     const char *driver = SDL_GetCurrentVideoDriver();
-    if (driver && (strcmp(driver, "offscreen") == 0 || strcmp(driver, "dummy") == 0))
-        SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0", SDL_HINT_DEFAULT);
+    bool invisible = driver && (strcmp(driver, "offscreen") == 0 || strcmp(driver, "dummy") == 0);
+    if (invisible) SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0", SDL_HINT_DEFAULT);
+    const char *asked = getenv("SDL_VIDEODRIVER");
+    if (invisible && !(asked && *asked) && a.frames == 0 && a.seconds == 0 && !a.script) {
+        /* SDL found no display and fell back to a driver that shows nothing: an
+         * interactive session would run unseen for ever. */
+        fprintf(stderr,
+                "ntile-play: no display found (SDL fell back to its '%s' video driver, which shows nothing)\n"
+                "ntile-play: run it in a desktop session (DISPLAY or WAYLAND_DISPLAY set), or headless with\n"
+                "ntile-play: SDL_VIDEODRIVER=dummy and --frames N --screenshot OUT.bmp, or `make run` for the headless replay\n",
+                driver);
+        SDL_Quit();
+        pg_destroy(p);
+        free(sc.e);
+        return 1;
+    }
     char title[256];
     snprintf(title, sizeof title, "ntile-play %d.%d.%d", NT_VERSION_MAJOR, NT_VERSION_MINOR, NT_VERSION_PATCH);
     SDL_Window *win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, a.w, a.h, SDL_WINDOW_RESIZABLE);

@@ -863,16 +863,17 @@ static void switch_level(pg *p, int index)
     if (index < 0 || index >= p->level_count) return;
     record_stop(p);
     char why[700];
+    /* Leaving a replay: its seed, friction model and dt were for its own level. */
+    nt_game_def saved = p->gdef;
+    p->gdef = nt_default_game_def();
     if (!load_level(p, p->levels[index], why, sizeof why)) {
+        p->gdef = saved;
         say(p, "%s", why);
         return;
     }
     p->level_index = index;
-    if (p->replay_on) {
-        p->replay_on = false;
-        p->gdef = nt_default_game_def();
-        rebuild(p);
-    }
+    p->replay_on = false;
+    p->dt = p->dt_default;
     say(p, "level %d/%d: %s", index + 1, p->level_count, p->levels[index]);
 }
 
@@ -1074,7 +1075,7 @@ void pg_mouse_move(pg *p, double x, double y)
     update_camera(p); /* the view the mouse points into */
     p->mx = x, p->my = y;
     p->mouse_seen = true;
-    if (p->drag == PG_MOUSE_RIGHT && p->game && !p->recording) paint_to(p, x, y);
+    if (p->drag == PG_MOUSE_RIGHT && p->game && !p->recording && x < p->view_w) paint_to(p, x, y);
 }
 
 void pg_mouse_button(pg *p, int button, bool down, double x, double y)
@@ -1150,7 +1151,7 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
         free(p);
         return NULL;
     }
-    p->dt = tmp->dt; /* the replay format's default tick: 1/40 s */
+    p->dt = p->dt_default = tmp->dt; /* the replay format's default tick: 1/40 s */
     nt_replay_destroy(tmp);
     if (!is_dir(p->save_dir)) {
         snprintf(why, cap, "--save-dir '%s' is not a directory", p->save_dir);

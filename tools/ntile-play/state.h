@@ -28,7 +28,7 @@ struct pg {
     bool lab; /* show momentum and energy (lab.ntl or a level without gravity) */
     nt_game *game;
     nt_game_def gdef;
-    nt_real dt;
+    nt_real dt, dt_default; /* the tick: the replay's while one plays, else the format's 1/40 s */
 
     /* Replay playback (--replay): its inputs drive the game. */
     nt_replay *replay;
