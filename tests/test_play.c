@@ -708,6 +708,58 @@ static void test_record_replay(void **state)
     free(text);
 }
 
+/* Recording an edited level (painted, and switched to Coulomb friction) saves the
+ * level first, so that the replay names a file holding exactly what was played. */
+static void test_record_edited_level(void **state)
+{
+    (void)state;
+    /* In the lab (20 x 12 cells, drawn at 2 pixels a unit): paint cell (9, 5) in the
+     * path of the pucks, switch the friction model, record 81 ticks. */
+    write_text("edit.script", "1 mouse down right 456 264\n"
+                              "1 mouse up right 456 264\n"
+                              "2 press F\n"
+                              "3 press F5\n"
+                              "84 press F5\n");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("edit.script"), "--frames", "85", LAB_VIEW,
+                                  "--save-dir", g_dir, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    nt_level *lv = load_level(path_of("lab-edit.ntl"));
+    assert_int_equal(lv->tiles[5 * lv->width + 9], NT_TILE_FULL);
+    assert_int_equal(lv->friction_model, NT_FRICTION_COULOMB);
+    nt_level_destroy(lv);
+    char *text = read_text(path_of("lab-edit-001.ntr"));
+    expect_in(text, "level lab-edit.ntl\n");
+    expect_in(text, "ticks 81\n"); /* frames 3 .. 83 */
+    free(text);
+    const char *ntile = getenv("NTILE");
+    if (ntile && *ntile) {
+        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-edit-001.ntr"), NULL});
+        expect_status(&r, 0);
+        run_free(&r);
+        /* Against the original level the same inputs do not give the same run. */
+        char *t2 = read_text(path_of("lab-edit-001.ntr"));
+        char *at = strstr(t2, "level lab-edit.ntl");
+        assert_non_null(at);
+        char cwd[4096], line[4400];
+        assert_non_null(getcwd(cwd, sizeof cwd));
+        snprintf(line, sizeof line, "level \"%s/levels/lab.ntl\"", cwd);
+        size_t head = (size_t)(at - t2);
+        char *t3 = malloc(strlen(t2) + strlen(line) + 1);
+        assert_non_null(t3);
+        memcpy(t3, t2, head);
+        strcpy(t3 + head, line);
+        strcat(t3, at + strlen("level lab-edit.ntl"));
+        write_text("lab-orig.ntr", t3);
+        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-orig.ntr"), NULL});
+        expect_status(&r, 1);
+        run_free(&r);
+        free(t2);
+        free(t3);
+    }
+}
+
 /* Right-drag paints FULL tiles across three cells; the edge states update at once (a
  * SOLID edge above them, no edge on the seams between them); F2 saves the level with
  * the paint and nothing else changed. */
@@ -915,7 +967,7 @@ int main(void)
         cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_interpolation),
         cmocka_unit_test(test_resize),             cmocka_unit_test(test_gizmo_on_off),
         cmocka_unit_test(test_hud_and_palette),    cmocka_unit_test(test_record_replay),
-        cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),
+        cmocka_unit_test(test_record_edited_level), cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
         cmocka_unit_test(test_errors),
