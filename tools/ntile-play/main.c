@@ -311,6 +311,11 @@ static int handle_event(pg *p, const SDL_Event *e, int *resized)
     case SDL_MOUSEWHEEL: pg_mouse_wheel(p, e->wheel.y); return 0;
     case SDL_WINDOWEVENT:
         if (e->window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e->window.event == SDL_WINDOWEVENT_RESIZED) *resized = 1;
+        if (e->window.event == SDL_WINDOWEVENT_FOCUS_LOST) {
+            /* Key releases go to the other window: nothing stays held. */
+            for (int i = 0; i < HOLD_COUNT; i++) holds[i].down = false;
+            pg_set_keys(p, 0);
+        }
         return 0;
     default: return 0;
     }

@@ -298,6 +298,7 @@ static int ends_with(const char *s, const char *suffix)
 }
 
 static void update_view_fit(pg *p);
+static void pan(pg *p, double seconds);
 
 /* Build a new game from the current level. */
 static int rebuild(pg *p)
@@ -336,6 +337,7 @@ static int install_level(pg *p, nt_level *lv, const char *path, char *why, size_
     p->friction = (double)lv->body_material.friction;
     clear_world_extras(p);
     p->zoom_fit = 0; /* a new level starts at its own fit */
+    p->pan.x = p->pan.y = 0;
     update_view_fit(p);
     return 1;
 }
@@ -518,6 +520,7 @@ int pg_advance(pg *p, double seconds)
     if (!(seconds >= 0)) seconds = 0;
     if (seconds > 0.25) seconds = 0.25; /* after a stall, do not try to catch up for ever */
     p->clock += seconds;
+    pan(p, seconds);
     if (p->paused) return 0;
     p->acc += seconds / p->slow;
     int n = 0;
@@ -534,6 +537,7 @@ int pg_advance_frame(pg *p)
 {
     p->fixed = true;
     p->clock += 1.0 / 60;
+    pan(p, 1.0 / 60);
     p->frame++;
     p->acc = 0;
     if (p->paused || p->frame % p->slow != 0) return 0;
@@ -602,6 +606,25 @@ pg_vec pg__player_pos(const pg *p, double alpha)
     return r;
 }
 
+static bool has_player(const pg *p)
+{
+    return p->game && nt_body_is_valid(nt_game_get_world(p->game), nt_game_get_player(p->game));
+}
+
+/* Without a player the arrows (WASD) pan the view: 600 pixels a second. */
+static void pan(pg *p, double seconds)
+{
+    if (has_player(p) || !p->level || p->opt.has_center) return;
+    double d = 600 * seconds / p->zoom;
+    if (p->keys & NT_INPUT_LEFT) p->pan.x -= d;
+    if (p->keys & NT_INPUT_RIGHT) p->pan.x += d;
+    if (p->keys & NT_INPUT_UP) p->pan.y -= d;
+    if (p->keys & NT_INPUT_DOWN) p->pan.y += d;
+    double lw = p->level->width * (double)p->level->cell_size, lh = p->level->height * (double)p->level->cell_size;
+    p->pan.x = fmin(fmax(p->pan.x, -lw / 2), lw / 2);
+    p->pan.y = fmin(fmax(p->pan.y, -lh / 2), lh / 2);
+}
+
 /* Camera: the player (interpolated), kept inside the level when the level is larger
  * than the view; a level smaller than the view is centred. */
 static void update_camera(pg *p)
@@ -613,9 +636,8 @@ static void update_camera(pg *p)
         p->cam.y = p->opt.center_y;
         return;
     }
-    pg_vec c = {lw / 2, lh / 2};
-    nt_body_id id = p->game ? nt_game_get_player(p->game) : nt_null_body_id();
-    if (p->game && nt_body_is_valid(nt_game_get_world(p->game), id)) c = pg__player_pos(p, pg__alpha(p));
+    pg_vec c = {lw / 2 + p->pan.x, lh / 2 + p->pan.y};
+    if (has_player(p)) c = pg__player_pos(p, pg__alpha(p));
     double hw = p->view_w / p->zoom / 2, hh = p->view_h / p->zoom / 2;
     if (lw <= 2 * hw) c.x = lw / 2;
     else c.x = fmin(fmax(c.x, hw), lw - hw);

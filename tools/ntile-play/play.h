@@ -110,7 +110,8 @@ void pg_destroy(pg *p);
 /* The window (or the screenshot) size in pixels; the view is what the palette strip leaves. */
 void pg_set_window(pg *p, int w, int h);
 
-/* Keys held (NT_INPUT_* bits) for the coming ticks. Ignored while a replay plays. */
+/* Keys held (NT_INPUT_* bits) for the coming ticks (ignored while a replay plays); in a
+ * level without a player, the direction keys also pan the view. */
 void pg_set_keys(pg *p, uint32_t keys);
 
 void pg_command(pg *p, pg_cmd cmd, int arg);

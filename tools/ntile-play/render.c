@@ -433,7 +433,8 @@ static void draw_help(pg *p, pg_canvas *c, int ts)
     int n = snprintf(text, sizeof text,
                      "ntile-play - keys and mouse                                  (H closes)\n"
                      "\n"
-                     "Arrows / WASD   move (up, down)        Z / Space  jump      X  act (spawners)\n"
+                     "Arrows / WASD   move (pan the view in a level without a player)\n"
+                     "Z / Space  jump      X  act (spawners)\n"
                      "R  restart      PgUp / PgDn, 1-9  switch level      Esc  quit\n"
                      "P  pause        .  single step         M  slow motion (1, 1/2, 1/4, 1/8)\n"
                      "+ / -, wheel  zoom     Home  reset zoom\n"

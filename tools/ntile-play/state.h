@@ -71,6 +71,7 @@ struct pg {
     int win_w, win_h, view_w, view_h;
     double zoom, zoom_fit;
     pg_vec cam;
+    pg_vec pan;         /* levels without a player: the arrows move the view from the centre */
     bool follow;
 
     /* Render interpolation: every body's position before the last tick, by slot. */
