@@ -538,6 +538,24 @@ static void test_tiles_and_bodies(void **state)
     free(im.px);
 }
 
+/* The lab's HUD figures (printed on exit in automation): the pucks meet at tick 64;
+ * momentum stays (60, 0) and the kinetic energy falls from 7800 to the analytic
+ * 2287.5 (bounce 0.5; levels/lab.ntl works it out). */
+static void test_lab_collision_figures(void **state)
+{
+    (void)state;
+    run_result r;
+    run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "63", "--no-hud", NULL});
+    expect_status(&r, 0);
+    if (strstr(r.out, "last collision")) fail_msg("no collision should be reported before tick 64:\n%s", r.out);
+    run_free(&r);
+    run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "70", "--no-hud", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 70  bodies 2 (awake 2)  score 0");
+    expect_in(r.out, "last collision tick 64: momentum (60.00, 0.00) -> (60.00, 0.00), kinetic energy 7800.0 -> 2287.5");
+    run_free(&r);
+}
+
 /* Render interpolation: with --alpha A a body is drawn A of the way from where it
  * was before the last tick to where it is (its arrows move with it). */
 static void test_interpolation(void **state)
@@ -964,7 +982,8 @@ static void test_errors(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_interpolation),
+        cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_lab_collision_figures),
+        cmocka_unit_test(test_interpolation),
         cmocka_unit_test(test_resize),             cmocka_unit_test(test_gizmo_on_off),
         cmocka_unit_test(test_hud_and_palette),    cmocka_unit_test(test_record_replay),
         cmocka_unit_test(test_record_edited_level), cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),

@@ -658,6 +658,11 @@ int main(int argc, char **argv)
             if (spent < 1.0 / 60) SDL_Delay((Uint32)((1.0 / 60 - spent) * 1000));
         }
     }
+    if (a.frames > 0 || a.seconds > 0) {
+        char line[400];
+        pg_summary(p, line, sizeof line);
+        printf("ntile-play: %s\n", line);
+    }
     if (a.screenshot && !save_screenshot(&canvas, a.screenshot)) rc = 1;
     else if (a.screenshot)
         printf("ntile-play: frame %ld (tick %d, video driver %s) saved to %s\n", frame, pg_tick_count(p),

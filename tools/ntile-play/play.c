@@ -1284,6 +1284,20 @@ void pg_destroy(pg *p)
     free(p);
 }
 
+void pg_summary(const pg *p, char *out, size_t cap)
+{
+    nt_game_state st = nt_game_get_state(p->game);
+    nt_world *w = nt_game_get_world(p->game);
+    int n = snprintf(out, cap, "tick %d  bodies %d (awake %d)  score %d", st.tick, w ? nt_world_get_body_count(w) : 0,
+                     w ? nt_world_get_awake_count(w) : 0, st.score);
+    if (n > 0 && (size_t)n < cap && st.has_player)
+        n += snprintf(out + n, cap - (size_t)n, "  player %s", st.complete ? "complete" : st.alive ? "alive" : "dead");
+    if (n > 0 && (size_t)n < cap && p->lab && p->has_collision)
+        snprintf(out + n, cap - (size_t)n,
+                 "  last collision tick %d: momentum (%.2f, %.2f) -> (%.2f, %.2f), kinetic energy %.1f -> %.1f",
+                 p->coll_tick, p->px_before, p->py_before, p->px_after, p->py_after, p->ke_before, p->ke_after);
+}
+
 const char *pg_message(const pg *p) { return p->clock < p->msg_until ? p->msg : ""; }
 nt_game *pg_game(const pg *p) { return p->game; }
 int pg_tick_count(const pg *p) { return p->game ? nt_game_get_state(p->game).tick : 0; }

@@ -132,6 +132,10 @@ void pg_render(pg *p, pg_canvas *c, double fps);
 /* Stop a recording in progress (saving it), e.g. before quitting. */
 void pg_finish(pg *p);
 
+/* One line of state for automation: tick, score, bodies, player; in the lab, the last
+ * collision's momentum and kinetic energy before and after (as the HUD shows them). */
+void pg_summary(const pg *p, char *out, size_t cap);
+
 /* State for main.c and the tests. */
 const char *pg_message(const pg *p);
 nt_game *pg_game(const pg *p);
