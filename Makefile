@@ -4,7 +4,10 @@
 #                        ntile CLI, in build/
 #   make test            build and run every test
 #   make asan            the whole test suite under AddressSanitizer + UBSan
-#   make run             the quick-start demonstration
+#   make play            the SDL2 playground on the default level (installs libsdl2-dev
+#                        when missing and root; `make` builds build/ntile-play whenever
+#                        SDL2's development files are there, and skips it otherwise)
+#   make run             the headless alternative: replay the default level
 #   make NT_DOUBLE=1 …   everything with double as the scalar type
 #   make CC=clang OPT=-O3 …  any compiler / optimisation level
 #   make install [PREFIX=/usr/local] [DESTDIR=]   headers, libraries, ntile.pc
@@ -74,13 +77,30 @@ TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_LIB_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
 TEST_LIB_OBJ := $(TEST_LIB_SRC:%.c=$(OBJ)/%.o)
 
-.PHONY: all lib cli test asan valgrind determinism fuzz soak run clean deps-cc deps-test deps-cxx deps-pkgconfig \
-        deps-tiled install uninstall check-install check-headers sheet bench bench-sweep bench-peers deps-peers
+# The SDL2 playground (tools/ntile-play): a program beside the libraries, never part
+# of them. Built by `make` only when SDL2's development files are installed
+# (sdl2-config); everything else builds without SDL. Its test (tests/test_play.c)
+# skips with a message when it was not built.
+SDL_CONFIG ?= sdl2-config
+HAVE_SDL := $(shell $(SDL_CONFIG) --cflags >/dev/null 2>&1 && echo 1)
+PLAY_SRC := $(wildcard tools/ntile-play/*.c)
+PLAY_OBJ := $(PLAY_SRC:%.c=$(OBJ)/%.o)
+PLAY_BIN := $(BUILD)/ntile-play
+ifeq ($(HAVE_SDL),1)
+# -isystem: SDL's own headers are not held to the project's warnings.
+SDL_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(SDL_CONFIG) --cflags))
+SDL_LIBS := $(shell $(SDL_CONFIG) --libs)
+PLAY_TARGET := $(PLAY_BIN)
+endif
+
+.PHONY: all lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
+        deps-test deps-cxx deps-pkgconfig deps-tiled install uninstall check-install check-headers sheet \
+        bench bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
 
-all: lib cli
+all: lib cli $(PLAY_TARGET)
 lib: $(BUILD)/libntile.a $(BUILD)/libntile.so $(GAME_LIB)
 cli: $(BUILD)/ntile
 
@@ -121,6 +141,13 @@ $(GAME_LIB): $(GAME_OBJ) $(STAMP)
 $(BUILD)/ntile: $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-tiled
 	$(CC) $(LDFLAGS_ALL) -o $@ $(CLI_OBJ) $(TILED_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(TILED_LIBS) $(LIBS)
 
+$(OBJ)/tools/ntile-play/%.o: tools/ntile-play/%.c | deps-cc
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(SDL_CFLAGS) -MMD -MP -c $< -o $@
+
+$(PLAY_BIN): $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
+	$(CC) $(LDFLAGS_ALL) -o $@ $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(SDL_LIBS) $(LIBS)
+
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
 # (test_bench also with the benchmark's metric, scene, outline and plot code;
 # test_tiled with the Tiled importer).
@@ -138,9 +165,9 @@ $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -Isrc -Itools -Itools/ntile -MMD -MP -c $< -o $@
 
-test: deps-test $(TEST_BIN) $(BUILD)/ntile
+test: deps-test $(TEST_BIN) $(BUILD)/ntile $(PLAY_TARGET)
 	@pass=0; fail=0; for t in $(TEST_BIN); do \
-	  echo "== $$t"; if NTILE=$(BUILD)/ntile $$t; then pass=$$((pass+1)); else fail=$$((fail+1)); echo "FAILED: $$t"; fi; \
+	  echo "== $$t"; if NTILE=$(BUILD)/ntile NTILE_PLAY=$(PLAY_TARGET) $$t; then pass=$$((pass+1)); else fail=$$((fail+1)); echo "FAILED: $$t"; fi; \
 	done; \
 	echo "test suites: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
@@ -156,9 +183,11 @@ VALGRIND := valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-
             --show-leak-kinds=definite,indirect --trace-children=yes
 valgrind:
 	@tools/deps.sh cc cmocka valgrind
-	@$(MAKE) --no-print-directory BUILD=$(BUILD_VG) OPT="-O1 -g" $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%) $(BUILD_VG)/ntile
+	@$(MAKE) --no-print-directory BUILD=$(BUILD_VG) OPT="-O1 -g" $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%) $(BUILD_VG)/ntile \
+	  $(if $(PLAY_TARGET),$(BUILD_VG)/ntile-play)
 	@pass=0; fail=0; for t in $(TEST_BIN:$(BUILD)/%=$(BUILD_VG)/%); do \
-	  echo "== valgrind $$t"; if NTILE=$(BUILD_VG)/ntile $(VALGRIND) $$t >$$t.vg.log 2>&1; then pass=$$((pass+1)); \
+	  echo "== valgrind $$t"; if NTILE=$(BUILD_VG)/ntile NTILE_PLAY=$(if $(PLAY_TARGET),$(BUILD_VG)/ntile-play) \
+	    $(VALGRIND) $$t >$$t.vg.log 2>&1; then pass=$$((pass+1)); \
 	  else fail=$$((fail+1)); tail -30 $$t.vg.log; echo "FAILED: $$t"; fi; \
 	done; echo "valgrind: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
@@ -247,7 +276,24 @@ $(BUILD)/bench-peers: $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a
 bench-peers: deps-peers $(BUILD)/bench-peers
 	$(BUILD)/bench-peers --runs $(RUNS)
 
-# The main job until the playground exists: replay the default level headless.
+# The quick start: the playground on the default level. SDL2 is installed first when
+# missing (as root; otherwise the apt-get command is printed), then make runs again so
+# that it sees sdl2-config. PLAY_ARGS: more arguments (a level, --gizmos ...).
+PLAY_ARGS ?= levels/ninja.ntl
+play:
+	@tools/deps.sh cc sdl2
+	@$(MAKE) --no-print-directory play-bin
+	$(BUILD)/ntile-play $(PLAY_ARGS)
+play-bin: lib cli
+	@[ "$(HAVE_SDL)" = 1 ] || { echo "ntile: SDL2 development files not found (sdl2-config): tools/deps.sh sdl2" >&2; exit 1; }
+	@$(MAKE) --no-print-directory $(PLAY_BIN)
+
+# The README's screenshot, made by the playground itself (no display needed).
+screenshot: play-bin
+	SDL_VIDEODRIVER=dummy $(BUILD)/ntile-play --replay tests/replays/ninja.ntr --frames 26 --size 960x600 --zoom 2.2 \
+	  --gizmos edges,grid,velocities,split,contacts,rays --mouse 560 330 --screenshot tools/ntile-play/screenshot.png
+
+# The headless alternative: replay the default level.
 run: $(BUILD)/ntile
 	$(BUILD)/ntile run tests/replays/ninja.ntr
 

@@ -33,7 +33,8 @@ for f in "$@"; do
         have_header zlib.h -lz || missing="$missing zlib1g-dev" ;;
     pkgconfig) command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config" ;;
     sdl2) command -v sdl2-config >/dev/null 2>&1 || missing="$missing libsdl2-dev" ;;
-    xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb" ;;
+    xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb"
+          command -v xauth >/dev/null 2>&1 || missing="$missing xauth" ;; # xvfb-run needs it (only recommended by xvfb)
     valgrind) command -v valgrind >/dev/null 2>&1 || missing="$missing valgrind" ;;
     *) echo "tools/deps.sh: unknown feature '$f'" >&2; exit 2 ;;
     esac

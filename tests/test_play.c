@@ -1,0 +1,996 @@
+/* The SDL2 playground (build/ntile-play, named by NTILE_PLAY; make test sets it when
+ * SDL2 is installed, and every test here is skipped with a message when it is not).
+ *
+ * The playground runs headless (SDL_VIDEODRIVER=dummy, one tick per frame) and saves
+ * frames; the tests read the pixels back and check them against what the engine
+ * says: a tile's colour where the level has a tile, a body where the replay puts it
+ * (computed here with the game API), a gizmo present when enabled and absent when
+ * not, edge states after painting, throws and deletes. Scripted input (--script)
+ * goes through SDL's event queue, the path a keyboard takes: a replay recorded that
+ * way must be replayed bit for bit by `ntile run` (NTILE) and by nt_run_replay, and
+ * must fail once an input is changed. Also: PNG output equals the BMP (decoded here),
+ * the offscreen driver gives the same frame, and bad input gives clear errors. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "../tools/ntile-play/colors.h"
+#include "ntile/game.h"
+
+/* ---------- temporary files ---------- */
+
+static char g_dir[4096];
+
+static int group_setup(void **state)
+{
+    (void)state;
+    const char *tmp = getenv("TMPDIR");
+    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-play-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(g_dir)) return -1;
+    /* No display needed: SDL's dummy video driver (a test may choose another). */
+    setenv("SDL_VIDEODRIVER", "dummy", 1);
+    setenv("SDL_AUDIODRIVER", "dummy", 1);
+    return 0;
+}
+
+static int group_teardown(void **state)
+{
+    (void)state;
+    DIR *d = opendir(g_dir);
+    if (d) {
+        struct dirent *e;
+        while ((e = readdir(d)) != NULL) {
+            if (e->d_name[0] == '.') continue;
+            char p[4400];
+            snprintf(p, sizeof p, "%s/%s", g_dir, e->d_name);
+            unlink(p);
+        }
+        closedir(d);
+    }
+    rmdir(g_dir);
+    return 0;
+}
+
+static const char *path_of(const char *name)
+{
+    static char buf[16][4400];
+    static int k;
+    char *p = buf[k++ % 16];
+    snprintf(p, 4400, "%s/%s", g_dir, name);
+    return p;
+}
+
+static void write_text(const char *name, const char *text)
+{
+    FILE *f = fopen(path_of(name), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
+    assert_int_equal(fclose(f), 0);
+}
+
+static unsigned char *read_bytes(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) fail_msg("cannot open %s: %s", path, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *buf = malloc(cap + 1);
+    assert_non_null(buf);
+    for (;;) {
+        if (n == cap) {
+            cap *= 2;
+            buf = realloc(buf, cap + 1);
+            assert_non_null(buf);
+        }
+        size_t k = fread(buf + n, 1, cap - n, f);
+        if (k == 0) break;
+        n += k;
+    }
+    fclose(f);
+    buf[n] = '\0';
+    *len = n;
+    return buf;
+}
+
+static char *read_text(const char *path)
+{
+    size_t n;
+    return (char *)read_bytes(path, &n);
+}
+
+/* ---------- running programs ---------- */
+
+typedef struct run_result {
+    int status;
+    char *out, *err;
+} run_result;
+
+static char *slurp(int fd)
+{
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap + 1);
+    assert_non_null(buf);
+    assert_int_equal(lseek(fd, 0, SEEK_SET), 0);
+    for (;;) {
+        if (n == cap) {
+            cap *= 2;
+            buf = realloc(buf, cap + 1);
+            assert_non_null(buf);
+        }
+        ssize_t k = read(fd, buf + n, cap - n);
+        assert_true(k >= 0);
+        if (k == 0) break;
+        n += (size_t)k;
+    }
+    buf[n] = '\0';
+    return buf;
+}
+
+static int temp_fd(void)
+{
+    char p[4400];
+    snprintf(p, sizeof p, "%s/io-XXXXXX", g_dir);
+    int fd = mkstemp(p);
+    assert_true(fd >= 0);
+    unlink(p);
+    return fd;
+}
+
+/* The video driver of the next child run (NULL: the group's, dummy; "": none and no display). */
+static const char *g_child_driver;
+
+static const char *play_exe(void)
+{
+    const char *exe = getenv("NTILE_PLAY");
+    static bool said;
+    if (!exe || !*exe) {
+        if (said) skip();
+        said = true;
+        print_message("skipped: the SDL2 playground was not built (SDL2's development files are missing: "
+                      "tools/deps.sh sdl2 installs libsdl2-dev); NTILE_PLAY names it when it is\n");
+        skip();
+    }
+    return exe;
+}
+
+/* Run a program (argv NULL-terminated), capturing both outputs. */
+static void run_exe(run_result *r, const char *exe, const char *const *args)
+{
+    const char *argv[96];
+    size_t n = 0;
+    argv[n++] = exe;
+    for (; args[n - 1]; n++) {
+        assert_true(n < 95);
+        argv[n] = args[n - 1];
+    }
+    argv[n] = NULL;
+    const char *driver = g_child_driver;
+    g_child_driver = NULL; /* one run only, even if this one fails */
+    int out_fd = temp_fd(), err_fd = temp_fd();
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int in_fd = open("/dev/null", O_RDONLY);
+        if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
+        setenv("ASAN_OPTIONS", "exitcode=99", 0);
+        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
+        if (driver && *driver) setenv("SDL_VIDEODRIVER", driver, 1);
+        if (driver && !*driver) { /* "": no display at all, no driver asked for */
+            unsetenv("SDL_VIDEODRIVER");
+            unsetenv("DISPLAY");
+            unsetenv("WAYLAND_DISPLAY");
+        }
+        execv(exe, (char *const *)argv);
+        _exit(126);
+    }
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
+    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
+    r->out = slurp(out_fd);
+    r->err = slurp(err_fd);
+    close(out_fd);
+    close(err_fd);
+    if (r->status >= 99 || strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
+        fail_msg("%s failed badly (status %d):\n%s", exe, r->status, r->err);
+}
+
+static void run_play(run_result *r, const char *const *args) { run_exe(r, play_exe(), args); }
+
+static void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
+}
+
+static void expect_status(const run_result *r, int status)
+{
+    if (r->status != status) fail_msg("exit status %d, expected %d\nstdout:\n%s\nstderr:\n%s", r->status, status, r->out, r->err);
+}
+
+static void expect_in(const char *text, const char *needle)
+{
+    if (!strstr(text, needle)) fail_msg("expected to find:\n%s\nin:\n%s", needle, text);
+}
+
+/* Run the playground and expect success. */
+static void play_ok(const char *const *args)
+{
+    run_result r;
+    run_play(&r, args);
+    expect_status(&r, 0);
+    run_free(&r);
+}
+
+/* ---------- images ---------- */
+
+typedef struct image {
+    int w, h;
+    uint32_t *px; /* 0x00RRGGBB, top row first */
+} image;
+
+static uint32_t le32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
+
+/* 24- or 32-bit uncompressed (or BITFIELDS) BMP, bottom-up or top-down. */
+static image load_bmp(const char *path)
+{
+    size_t n;
+    unsigned char *b = read_bytes(path, &n);
+    if (n < 54 || b[0] != 'B' || b[1] != 'M') fail_msg("%s is not a BMP", path);
+    uint32_t off = le32(b + 10);
+    int32_t w = (int32_t)le32(b + 18), h = (int32_t)le32(b + 22);
+    int bpp = b[28] | b[29] << 8;
+    uint32_t comp = le32(b + 30);
+    if ((bpp != 24 && bpp != 32) || (comp != 0 && comp != 3) || w <= 0 || h == 0) fail_msg("%s: unsupported BMP (%d bpp, compression %u)", path, bpp, comp);
+    bool top_down = h < 0;
+    if (h < 0) h = -h;
+    size_t stride = ((size_t)w * (size_t)(bpp / 8) + 3) & ~(size_t)3;
+    if (off + stride * (size_t)h > n) fail_msg("%s: truncated BMP", path);
+    image im = {w, h, malloc((size_t)w * (size_t)h * 4)};
+    assert_non_null(im.px);
+    for (int y = 0; y < h; y++) {
+        const unsigned char *row = b + off + stride * (size_t)(top_down ? y : h - 1 - y);
+        for (int x = 0; x < w; x++) {
+            const unsigned char *q = row + (size_t)x * (size_t)(bpp / 8);
+            im.px[(size_t)y * (size_t)w + (size_t)x] = (uint32_t)q[2] << 16 | (uint32_t)q[1] << 8 | q[0];
+        }
+    }
+    free(b);
+    return im;
+}
+
+static uint32_t pixel(const image *im, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= im->w || y >= im->h) fail_msg("pixel (%d, %d) is outside the %dx%d image", x, y, im->w, im->h);
+    return im->px[(size_t)y * (size_t)im->w + (size_t)x];
+}
+
+static void expect_pixel(const image *im, int x, int y, uint32_t color, const char *what)
+{
+    uint32_t c = pixel(im, x, y);
+    if (c != color) fail_msg("%s: pixel (%d, %d) is 0x%06x, expected 0x%06x", what, x, y, c, color);
+}
+
+/* Pixels of exactly `color` in [x0, x1) x [y0, y1) (clipped). */
+static int count_color(const image *im, int x0, int y0, int x1, int y1, uint32_t color)
+{
+    int n = 0;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > im->w) x1 = im->w;
+    if (y1 > im->h) y1 = im->h;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) n += im->px[(size_t)y * (size_t)im->w + (size_t)x] == color;
+    return n;
+}
+
+/* A 24-bit BMP of one colour, for --image-stats. */
+static void write_flat_bmp(const char *path, int w, int h, uint32_t color)
+{
+    size_t stride = ((size_t)w * 3 + 3) & ~(size_t)3, size = 54 + stride * (size_t)h;
+    unsigned char *b = calloc(1, size);
+    assert_non_null(b);
+    b[0] = 'B', b[1] = 'M';
+    for (int i = 0; i < 4; i++) {
+        b[2 + i] = (unsigned char)(size >> (8 * i));
+        b[18 + i] = (unsigned char)((uint32_t)w >> (8 * i));
+        b[22 + i] = (unsigned char)((uint32_t)h >> (8 * i));
+    }
+    b[10] = 54, b[14] = 40, b[26] = 1, b[28] = 24;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            unsigned char *q = b + 54 + stride * (size_t)y + (size_t)x * 3;
+            q[0] = (unsigned char)color, q[1] = (unsigned char)(color >> 8), q[2] = (unsigned char)(color >> 16);
+        }
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, size, f), size);
+    fclose(f);
+    free(b);
+}
+
+/* ---------- a small inflate (stored and fixed-Huffman blocks: what ntile-play writes) ---------- */
+
+typedef struct bits {
+    const unsigned char *p;
+    size_t n, pos; /* pos in bits */
+} bits;
+
+static unsigned getbits(bits *b, int k)
+{
+    unsigned v = 0;
+    for (int i = 0; i < k; i++, b->pos++) {
+        if (b->pos / 8 >= b->n) fail_msg("inflate: out of data");
+        v |= (unsigned)((b->p[b->pos / 8] >> (b->pos % 8)) & 1u) << i;
+    }
+    return v;
+}
+
+/* A fixed-code symbol: codes are read most significant bit first. */
+static unsigned fixed_literal(bits *b)
+{
+    unsigned code = 0;
+    for (int len = 1; len <= 9; len++) {
+        code = code << 1 | getbits(b, 1);
+        if (len == 7 && code <= 0x17) return code + 256;
+        if (len == 8 && code >= 0x30 && code <= 0xbf) return code - 0x30;
+        if (len == 8 && code >= 0xc0 && code <= 0xc7) return code - 0xc0 + 280;
+        if (len == 9 && code >= 0x190) return code - 0x190 + 144;
+    }
+    fail_msg("inflate: bad fixed code");
+    return 0;
+}
+
+static size_t inflate_simple(const unsigned char *src, size_t n, unsigned char *out, size_t cap)
+{
+    static const unsigned short lbase[29] = {3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+    static const unsigned char lext[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+    static const unsigned short dbase[30] = {1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+    static const unsigned char dext[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+    bits b = {src, n, 0};
+    size_t o = 0;
+    for (;;) {
+        unsigned final = getbits(&b, 1), type = getbits(&b, 2);
+        if (type == 0) {
+            b.pos = (b.pos + 7) & ~(size_t)7;
+            unsigned len = getbits(&b, 16), nlen = getbits(&b, 16);
+            if ((len ^ 0xffffu) != nlen) fail_msg("inflate: bad stored block");
+            for (unsigned i = 0; i < len; i++) {
+                if (o >= cap) fail_msg("inflate: too much output");
+                out[o++] = (unsigned char)getbits(&b, 8);
+            }
+        } else if (type == 1) {
+            for (;;) {
+                unsigned s = fixed_literal(&b);
+                if (s < 256) {
+                    if (o >= cap) fail_msg("inflate: too much output");
+                    out[o++] = (unsigned char)s;
+                } else if (s == 256) {
+                    break;
+                } else {
+                    s -= 257;
+                    if (s >= 29) fail_msg("inflate: bad length code");
+                    unsigned len = lbase[s] + getbits(&b, lext[s]);
+                    unsigned dc = 0;
+                    for (int i = 0; i < 5; i++) dc = dc << 1 | getbits(&b, 1);
+                    if (dc >= 30) fail_msg("inflate: bad distance code");
+                    size_t dist = dbase[dc] + getbits(&b, dext[dc]);
+                    if (dist > o || o + len > cap) fail_msg("inflate: bad match");
+                    for (unsigned i = 0; i < len; i++, o++) out[o] = out[o - dist];
+                }
+            }
+        } else {
+            fail_msg("inflate: block type %u (ntile-play writes only stored and fixed blocks)", type);
+        }
+        if (final) break;
+    }
+    return o;
+}
+
+static uint32_t be32(const unsigned char *p) { return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]; }
+
+static uint32_t crc32_of(const unsigned char *p, size_t n)
+{
+    uint32_t c = 0xffffffffu;
+    for (size_t i = 0; i < n; i++) {
+        c ^= p[i];
+        for (int k = 0; k < 8; k++) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+    }
+    return ~c;
+}
+
+static image load_png(const char *path)
+{
+    size_t n;
+    unsigned char *d = read_bytes(path, &n);
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (n < 8 || memcmp(d, sig, 8) != 0) fail_msg("%s: not a PNG", path);
+    size_t at = 8, zn = 0;
+    unsigned char *z = NULL;
+    int w = 0, h = 0;
+    bool end = false;
+    while (at + 12 <= n && !end) {
+        uint32_t len = be32(d + at);
+        if (at + 12 + len > n) fail_msg("%s: truncated chunk", path);
+        const unsigned char *type = d + at + 4, *body = d + at + 8;
+        if (crc32_of(type, len + 4) != be32(body + len)) fail_msg("%s: bad CRC in %.4s", path, (const char *)type);
+        if (memcmp(type, "IHDR", 4) == 0) {
+            w = (int)be32(body), h = (int)be32(body + 4);
+            if (body[8] != 8 || body[9] != 2 || body[12] != 0) fail_msg("%s: expected 8-bit RGB, no interlace", path);
+        } else if (memcmp(type, "IDAT", 4) == 0) {
+            z = realloc(z, zn + len);
+            assert_non_null(z);
+            memcpy(z + zn, body, len);
+            zn += len;
+        } else if (memcmp(type, "IEND", 4) == 0) {
+            end = true;
+        }
+        at += 12 + len;
+    }
+    if (!end || w <= 0 || h <= 0 || zn < 6) fail_msg("%s: incomplete PNG", path);
+    if ((z[0] & 0x0f) != 8 || ((unsigned)z[0] << 8 | z[1]) % 31 != 0) fail_msg("%s: bad zlib header", path);
+    size_t row = (size_t)w * 3 + 1, rawn = row * (size_t)h;
+    unsigned char *raw = malloc(rawn);
+    assert_non_null(raw);
+    size_t got = inflate_simple(z + 2, zn - 6, raw, rawn);
+    assert_int_equal(got, rawn);
+    /* Adler-32 of the inflated data. */
+    uint32_t a = 1, bsum = 0;
+    for (size_t i = 0; i < rawn; i++) a = (a + raw[i]) % 65521u, bsum = (bsum + a) % 65521u;
+    assert_int_equal(bsum << 16 | a, be32(z + zn - 4));
+    image im = {w, h, malloc((size_t)w * (size_t)h * 4)};
+    assert_non_null(im.px);
+    for (int y = 0; y < h; y++) {
+        unsigned char *r = raw + (size_t)y * row, *prev = y ? raw + (size_t)(y - 1) * row : NULL;
+        for (size_t i = 1; i < row; i++) {
+            unsigned left = i > 3 ? r[i - 3] : 0, up = prev ? prev[i] : 0, ul = prev && i > 3 ? prev[i - 3] : 0;
+            switch (r[0]) {
+            case 0: break;
+            case 1: r[i] = (unsigned char)(r[i] + left); break;
+            case 2: r[i] = (unsigned char)(r[i] + up); break;
+            case 3: r[i] = (unsigned char)(r[i] + (left + up) / 2); break;
+            case 4: {
+                int pa = abs((int)up - (int)ul), pb = abs((int)left - (int)ul), pc = abs((int)left + (int)up - 2 * (int)ul);
+                unsigned pr = (pa <= pb && pa <= pc) ? left : pb <= pc ? up : ul;
+                r[i] = (unsigned char)(r[i] + pr);
+                break;
+            }
+            default: fail_msg("%s: bad filter %d", path, r[0]);
+            }
+        }
+        for (int x = 0; x < w; x++)
+            im.px[(size_t)y * (size_t)w + (size_t)x] = (uint32_t)r[1 + 3 * x] << 16 | (uint32_t)r[2 + 3 * x] << 8 | r[3 + 3 * x];
+    }
+    free(raw);
+    free(z);
+    free(d);
+    return im;
+}
+
+/* ---------- the game, headless, for where things should be ---------- */
+
+static nt_level *load_level(const char *path)
+{
+    char *text = read_text(path);
+    nt_level *lv = NULL;
+    nt_text_error e;
+    if (nt_level_parse(path, text, strlen(text), &lv, &e) != NT_OK) fail_msg("%s", e.message);
+    free(text);
+    return lv;
+}
+
+/* The position of a level body after `ticks` ticks with no keys. */
+static nt_vec2 body_after(const char *level, const char *name, int ticks)
+{
+    nt_level *lv = load_level(level);
+    nt_game *g;
+    assert_int_equal(nt_game_create(lv, NULL, &g), NT_OK);
+    for (int t = 0; t < ticks; t++) assert_int_equal(nt_game_step(g, 0, (nt_real)0.025), NT_OK);
+    nt_body_id id = nt_game_find_body(g, name);
+    assert_false(nt_body_id_is_null(id));
+    nt_vec2 p = nt_body_get_position(nt_game_get_world(g), id);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+    return p;
+}
+
+/* The lab (20 x 12 cells of 24) drawn at 2 pixels per unit with the camera at its
+ * centre: world (x, y) is pixel (2x, 2y). */
+#define LAB_VIEW "--no-hud", "--size", "960x576", "--zoom", "2", "--center", "240", "144"
+#define LAB_PX(v) ((int)floor(2 * (double)(v)))
+
+/* ---------- tests ---------- */
+
+/* A tile's colour where the level has a tile; a body where the replay puts it and
+ * not where it started; empty space elsewhere. */
+static void test_tiles_and_bodies(void **state)
+{
+    (void)state;
+    const char *out = path_of("lab40.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--screenshot", out, NULL});
+    image im = load_bmp(out);
+    assert_int_equal(im.w, 960);
+    assert_int_equal(im.h, 576);
+    expect_pixel(&im, 24, 24, PG_COLOR_TILE, "the FULL tile in cell (0, 0)");
+    expect_pixel(&im, 2 * 24 * 19 + 24, 2 * 24 * 11 + 24, PG_COLOR_TILE, "the FULL tile in cell (19, 11)");
+    expect_pixel(&im, 2 * 60, 2 * 60, PG_COLOR_BG, "the empty cell (2, 2)");
+    nt_vec2 a = body_after("levels/lab.ntl", "puck_a", 40), b = body_after("levels/lab.ntl", "puck_b", 40);
+    assert_true(a.x > 200); /* it moved (it starts at x = 120) */
+    uint32_t fill = PG_BODY_FILL(PG_ENGINE_AWAKE);
+    expect_pixel(&im, LAB_PX(a.x), LAB_PX(a.y), fill, "puck_a where the replay puts it at tick 40");
+    expect_pixel(&im, LAB_PX(b.x), LAB_PX(b.y), fill, "puck_b where the replay puts it at tick 40");
+    expect_pixel(&im, LAB_PX(a.x) + 2 * 10 - 3, LAB_PX(a.y), fill, "inside puck_a's radius (10)");
+    expect_pixel(&im, LAB_PX(a.x) + 2 * 10 + 3, LAB_PX(a.y), PG_COLOR_BG, "just outside puck_a");
+    expect_pixel(&im, LAB_PX(120), LAB_PX(144), PG_COLOR_BG, "where puck_a started");
+    free(im.px);
+}
+
+/* The lab's HUD figures (printed on exit in automation): the pucks close a 220-unit
+ * gap at 140 units/s, so they meet 1.571 s in, during the 63rd tick of 1/40 s, and the
+ * collision is handled in that tick; momentum stays (60, 0) and the kinetic energy
+ * falls from 7800 to the analytic 2287.5 (bounce 0.5; levels/lab.ntl works it out). */
+static void test_lab_collision_figures(void **state)
+{
+    (void)state;
+    run_result r;
+    run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "62", "--no-hud", NULL});
+    expect_status(&r, 0);
+    if (strstr(r.out, "last collision")) fail_msg("no collision should be reported before tick 63:\n%s", r.out);
+    run_free(&r);
+    run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "70", "--no-hud", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 70  bodies 2 (awake 2)  score 0");
+    expect_in(r.out, "last collision tick 63: momentum (60.00, 0.00) -> (60.00, 0.00), kinetic energy 7800.0 -> 2287.5");
+    run_free(&r);
+}
+
+/* Render interpolation: with --alpha A a body is drawn A of the way from where it
+ * was before the last tick to where it is (its arrows move with it). */
+static void test_interpolation(void **state)
+{
+    (void)state;
+    const char *a0 = path_of("alpha0.bmp"), *a5 = path_of("alpha5.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0", "--screenshot", a0, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0.5", "--screenshot", a5, NULL});
+    image i0 = load_bmp(a0), i5 = load_bmp(a5);
+    nt_vec2 p39 = body_after("levels/lab.ntl", "puck_a", 39), p40 = body_after("levels/lab.ntl", "puck_a", 40);
+    assert_true(p40.x - p39.x > 2.9f); /* 3 units (6 pixels) a tick */
+    uint32_t fill = PG_BODY_FILL(PG_ENGINE_AWAKE);
+    /* Radius 10 units = 20 pixels: the right edge is where the centre drawn puts it. */
+    expect_pixel(&i0, LAB_PX(p39.x) + 18, LAB_PX(p39.y), fill, "alpha 0: inside the puck at its tick-39 place");
+    expect_pixel(&i0, LAB_PX(p40.x) + 18, LAB_PX(p40.y), PG_COLOR_BG, "alpha 0: not at its tick-40 place");
+    double mid = 0.5 * ((double)p39.x + (double)p40.x);
+    expect_pixel(&i5, LAB_PX(mid) + 18, LAB_PX(p40.y), fill, "alpha 0.5: inside the puck half way");
+    expect_pixel(&i5, LAB_PX(mid) + 22, LAB_PX(p40.y), PG_COLOR_BG, "alpha 0.5: just outside it");
+    free(i0.px);
+    free(i5.px);
+}
+
+/* A resize (scripted, as a window manager would) gives frames of the new size, the
+ * strip on the new right edge. */
+static void test_resize(void **state)
+{
+    (void)state;
+    write_text("resize.script", "2 resize 640 400\n");
+    const char *out = path_of("resized.bmp");
+    play_ok((const char *[]){"levels/ninja.ntl", "--script", path_of("resize.script"), "--frames", "4", "--screenshot", out, NULL});
+    image im = load_bmp(out);
+    assert_int_equal(im.w, 640);
+    assert_int_equal(im.h, 400);
+    expect_pixel(&im, 639, 399, PG_COLOR_STRIP, "the strip's background at the new size");
+    assert_true(count_color(&im, 0, 0, 560, 400, PG_COLOR_TILE) > 10000); /* the level, scaled to fit */
+    free(im.px);
+}
+
+/* The velocity gizmo: arrows in the engine's colour from each puck's centre along
+ * its velocity when enabled, none anywhere when not; the same for edge states. */
+static void test_gizmo_on_off(void **state)
+{
+    (void)state;
+    const char *on = path_of("gz-on.bmp"), *off = path_of("gz-off.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--gizmos", "velocities,edges",
+                             "--screenshot", on, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--screenshot", off, NULL});
+    image a = load_bmp(on), b = load_bmp(off);
+    nt_vec2 pa = body_after("levels/lab.ntl", "puck_a", 40);
+    int cx = LAB_PX(pa.x), cy = LAB_PX(pa.y);
+    /* puck_a moves right at 120 units/s: its arrow is 12 units (24 pixels) long. */
+    int along = count_color(&a, cx, cy - 1, cx + 26, cy + 2, PG_ENGINE_VELOCITY);
+    int behind = count_color(&a, cx - 26, cy - 1, cx - 1, cy + 2, PG_ENGINE_VELOCITY);
+    if (along < 20) fail_msg("velocity arrow: %d pixels of 0x%06x to the right of puck_a, expected >= 20", along, PG_ENGINE_VELOCITY);
+    assert_int_equal(behind, 0);
+    assert_int_equal(count_color(&b, 0, 0, b.w, b.h, PG_ENGINE_VELOCITY), 0);
+    /* Edge states: the SOLID edges (red) line the inside of the wall, never its seams. */
+    assert_true(count_color(&a, 0, 47, a.w, 50, 0xe04040u) > 600); /* the top wall's lower edge, y = 24 units */
+    expect_pixel(&a, LAB_PX(24 * 5), 24, PG_COLOR_TILE, "inside the top wall (seams are OFF)");
+    assert_int_equal(count_color(&b, 0, 0, b.w, b.h, 0xe04040u), 0);
+    free(a.px);
+    free(b.px);
+}
+
+/* The HUD and the tile strip: strip background, the FULL swatch filled and selected;
+ * Tab (through SDL's event queue) moves the selection to the next tile. */
+static void test_hud_and_palette(void **state)
+{
+    (void)state;
+    const char *out = path_of("hud.bmp"), *out2 = path_of("hud-tab.bmp");
+    write_text("tab.script", "1 press Tab\n");
+    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "2", "--size", "1024x640", "--screenshot", out, NULL});
+    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "2", "--size", "1024x640", "--script", path_of("tab.script"),
+                             "--screenshot", out2, NULL});
+    image a = load_bmp(out), b = load_bmp(out2);
+    /* The strip's geometry (render.c): cells of c pixels with 4-pixel gaps below a 24-pixel title. */
+    int g = 4, c = (640 - 24 - g * 18) / 17;
+    if (c > 28) c = 28;
+    int x0 = 1024 - (2 * c + 3 * g);
+    expect_pixel(&a, 1023, 639, PG_COLOR_STRIP, "the strip's background");
+    int sx1 = x0 + g + (c + g), sy0 = 24 + g; /* FULL: column 1, row 0 */
+    expect_pixel(&a, sx1 + c / 2, sy0 + c / 2, PG_COLOR_TILE, "the FULL swatch");
+    expect_pixel(&a, sx1 - 2, sy0 + c / 2, PG_COLOR_SELECT, "the selection around FULL");
+    int sx0 = x0 + g, sy1 = 24 + g + (c + g); /* 45DEGpn: column 0, row 1 */
+    expect_pixel(&a, sx0 - 2, sy1 + c / 2, PG_COLOR_STRIP, "no selection around 45DEGpn before Tab");
+    expect_pixel(&b, sx0 - 2, sy1 + c / 2, PG_COLOR_SELECT, "the selection around 45DEGpn after Tab");
+    expect_pixel(&b, sx1 - 2, sy0 + c / 2, PG_COLOR_STRIP, "no selection around FULL after Tab");
+    /* HUD text in the top-left corner. */
+    assert_true(count_color(&a, 0, 0, 600, 40, PG_COLOR_TEXT) > 300);
+    free(a.px);
+    free(b.px);
+}
+
+/* Record with F5 through scripted key events (a throw attempted while recording is
+ * refused), then check the replay with `ntile run` and nt_run_replay; one input
+ * changed must fail. */
+static void test_record_replay(void **state)
+{
+    (void)state;
+    write_text("rec.script", "1 press F5\n"
+                             "2 down Right\n"
+                             "40 down Z\n"
+                             "48 up Z\n"
+                             "60 mouse down left 300 300\n"
+                             "62 mouse up left 360 300\n"
+                             "70 up Right\n"
+                             "75 down Left\n"
+                             "76 down Space\n"
+                             "90 up Space\n"
+                             "100 up Left\n"
+                             "120 press F5\n");
+    const char *rec = path_of("rec.ntr");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/ninja.ntl", "--script", path_of("rec.script"), "--frames", "130", "--record", rec,
+                                  "--save-dir", g_dir, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "recorded 119 ticks");
+    run_free(&r);
+    char *text = read_text(rec);
+    expect_in(text, "ticks 119\n");
+    expect_in(text, "input 1. 38R 8RJ 22R 5. 1L 14LJ 10L 20.\n");
+    expect_in(text, NT_REAL_IS_DOUBLE ? "hash double 119 0x" : "hash float 119 0x");
+    expect_in(text, "expect alive at 119\n");
+
+    const char *ntile = getenv("NTILE");
+    if (ntile && *ntile) {
+        run_exe(&r, ntile, (const char *[]){"run", rec, NULL});
+        expect_status(&r, 0);
+        expect_in(r.out, "1 passed, 0 failed");
+        run_free(&r);
+    }
+    /* The runner API: the same check in this process. */
+    nt_replay *rp;
+    nt_text_error e;
+    if (nt_replay_parse(rec, text, strlen(text), &rp, &e) != NT_OK) fail_msg("%s", e.message);
+    nt_level *lv = load_level("levels/ninja.ntl");
+    nt_run_report rep;
+    assert_int_equal(nt_run_replay(rp, lv, &rep), NT_OK);
+    if (!rep.passed) fail_msg("the recorded replay failed: %s", rep.message_count ? rep.messages[0] : "?");
+    assert_int_equal(rep.ticks, 119);
+    assert_int_equal(rep.hash_failures, 0);
+    nt_run_report_free(&rep);
+    /* One tick of input moved from "right" to "nothing": the run must diverge. */
+    char *bad = strdup(text);
+    assert_non_null(bad);
+    char *at = strstr(bad, "input 1. 38R");
+    assert_non_null(at);
+    memcpy(at, "input 2. 37R", 12);
+    nt_replay *rp2;
+    if (nt_replay_parse(rec, bad, strlen(bad), &rp2, &e) != NT_OK) fail_msg("%s", e.message);
+    assert_int_equal(nt_run_replay(rp2, lv, &rep), NT_OK);
+    assert_false(rep.passed);
+    assert_true(rep.hash_failures > 0);
+    assert_int_equal(rep.first_divergence, 2);
+    nt_run_report_free(&rep);
+    write_text("rec-bad.ntr", bad);
+    if (ntile && *ntile) {
+        /* The level path in the file is relative to the replay's directory: same directory. */
+        run_exe(&r, ntile, (const char *[]){"run", path_of("rec-bad.ntr"), NULL});
+        expect_status(&r, 1);
+        expect_in(r.out, "first tick that diverges: 2");
+        run_free(&r);
+    }
+    nt_replay_destroy(rp);
+    nt_replay_destroy(rp2);
+    nt_level_destroy(lv);
+    free(bad);
+    free(text);
+}
+
+/* Recording an edited level (painted, and switched to Coulomb friction) saves the
+ * level first, so that the replay names a file holding exactly what was played. */
+static void test_record_edited_level(void **state)
+{
+    (void)state;
+    /* In the lab (20 x 12 cells, drawn at 2 pixels a unit): paint cell (9, 5) in the
+     * path of the pucks, switch the friction model, record 81 ticks. */
+    write_text("edit.script", "1 mouse down right 456 264\n"
+                              "1 mouse up right 456 264\n"
+                              "2 press F\n"
+                              "3 press F5\n"
+                              "84 press F5\n");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("edit.script"), "--frames", "85", LAB_VIEW,
+                                  "--save-dir", g_dir, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    nt_level *lv = load_level(path_of("lab-edit.ntl"));
+    assert_int_equal(lv->tiles[5 * lv->width + 9], NT_TILE_FULL);
+    assert_int_equal(lv->friction_model, NT_FRICTION_COULOMB);
+    nt_level_destroy(lv);
+    char *text = read_text(path_of("lab-edit-001.ntr"));
+    expect_in(text, "level lab-edit.ntl\n");
+    expect_in(text, "ticks 81\n"); /* frames 3 .. 83 */
+    free(text);
+    const char *ntile = getenv("NTILE");
+    if (ntile && *ntile) {
+        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-edit-001.ntr"), NULL});
+        expect_status(&r, 0);
+        run_free(&r);
+        /* Against the original level the same inputs do not give the same run. */
+        char *t2 = read_text(path_of("lab-edit-001.ntr"));
+        char *at = strstr(t2, "level lab-edit.ntl");
+        assert_non_null(at);
+        char cwd[4096], line[4400];
+        assert_non_null(getcwd(cwd, sizeof cwd));
+        snprintf(line, sizeof line, "level \"%s/levels/lab.ntl\"", cwd);
+        size_t head = (size_t)(at - t2);
+        char *t3 = malloc(strlen(t2) + strlen(line) + 1);
+        assert_non_null(t3);
+        memcpy(t3, t2, head);
+        strcpy(t3 + head, line);
+        strcat(t3, at + strlen("level lab-edit.ntl"));
+        write_text("lab-orig.ntr", t3);
+        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-orig.ntr"), NULL});
+        expect_status(&r, 1);
+        run_free(&r);
+        free(t2);
+        free(t3);
+    }
+}
+
+/* Right-drag paints FULL tiles across three cells; the edge states update at once (a
+ * SOLID edge above them, no edge on the seams between them); F2 saves the level with
+ * the paint and nothing else changed. */
+static void test_paint_and_save(void **state)
+{
+    (void)state;
+    /* Cells (5, 5) .. (7, 5): centres at world (132, 132) .. (180, 132). */
+    write_text("paint.script", "1 mouse down right 264 264\n"
+                               "2 mouse move 312 264\n"
+                               "3 mouse move 360 264\n"
+                               "3 mouse up right 360 264\n"
+                               "4 press F2\n");
+    const char *out = path_of("paint.bmp"), *saved = path_of("painted.ntl");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("paint.script"), "--frames", "6", LAB_VIEW,
+                                  "--gizmos", "edges", "--save", saved, "--screenshot", out, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    image im = load_bmp(out);
+    for (int x = 5; x <= 7; x++) expect_pixel(&im, 2 * (24 * x + 12), 2 * 132, PG_COLOR_TILE, "a painted FULL tile");
+    expect_pixel(&im, 2 * (24 * 4 + 12), 2 * 132, PG_COLOR_BG, "the cell left of the paint");
+    /* Top edge of cell (6, 5) at y = 120 units: SOLID (red). */
+    assert_true(count_color(&im, 2 * 150, 2 * 120 - 1, 2 * 162, 2 * 120 + 2, 0xe04040u) >= 10);
+    /* The seam between (5, 5) and (6, 5) at x = 144 units: OFF (no edge drawn). */
+    assert_int_equal(count_color(&im, 2 * 144 - 1, 2 * 124, 2 * 144 + 2, 2 * 140, 0xe04040u), 0);
+    free(im.px);
+    nt_level *lv = load_level(saved), *orig = load_level("levels/lab.ntl");
+    assert_int_equal(lv->width, orig->width);
+    for (int y = 0; y < lv->height; y++)
+        for (int x = 0; x < lv->width; x++) {
+            int want = (y == 5 && x >= 5 && x <= 7) ? NT_TILE_FULL : orig->tiles[y * orig->width + x];
+            if (lv->tiles[y * lv->width + x] != want) fail_msg("saved tile (%d, %d) is %d, expected %d", x, y, lv->tiles[y * lv->width + x], want);
+        }
+    assert_int_equal(lv->body_count, orig->body_count);
+    nt_level_destroy(lv);
+    nt_level_destroy(orig);
+}
+
+/* A left click with no drag throws a ball at rest (the lab has no gravity); a middle
+ * click deletes it. */
+static void test_throw_and_delete(void **state)
+{
+    (void)state;
+    write_text("throw.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n");
+    write_text("delete.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n5 mouse down middle 120 120\n"
+                                "5 mouse up middle 120 120\n");
+    const char *a = path_of("throw.bmp"), *b = path_of("delete.bmp");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", path_of("throw.script"), "--frames", "8", LAB_VIEW, "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", path_of("delete.script"), "--frames", "8", LAB_VIEW, "--screenshot", b, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b);
+    expect_pixel(&ia, 120, 120, PG_BODY_FILL(PG_ENGINE_AWAKE), "the thrown ball");
+    expect_pixel(&ia, 120 + 2 * 6, 120, PG_BODY_FILL(PG_ENGINE_AWAKE), "inside the ball (radius 0.3 cell)");
+    expect_pixel(&ib, 120, 120, PG_COLOR_BG, "the deleted ball");
+    free(ia.px);
+    free(ib.px);
+}
+
+/* F switches the friction model: the world is rebuilt from the level, and F2 saves
+ * the level with the new model. */
+static void test_friction_model_switch(void **state)
+{
+    (void)state;
+    write_text("model.script", "1 press F\n2 press F2\n");
+    const char *saved = path_of("coulomb.ntl");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/slopes.ntl", "--script", path_of("model.script"), "--frames", "3", "--save", saved, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    nt_level *lv = load_level(saved);
+    assert_int_equal(lv->friction_model, NT_FRICTION_COULOMB);
+    nt_level_destroy(lv);
+}
+
+/* PNG output (own encoder) holds exactly the BMP's pixels; frames are deterministic. */
+static void test_png_and_determinism(void **state)
+{
+    (void)state;
+    const char *bmp = path_of("n.bmp"), *bmp2 = path_of("n2.bmp"), *png = path_of("n.png");
+    const char *args = "edges,velocities,split,contacts,rays,grid,tiles,bodies,projections,sleep,sensors,stats";
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--frames", "120", "--gizmos", args, "--mouse", "400", "200",
+                             "--screenshot", bmp, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--frames", "120", "--gizmos", args, "--mouse", "400", "200",
+                             "--screenshot", png, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--frames", "120", "--gizmos", args, "--mouse", "400", "200",
+                             "--screenshot", bmp2, NULL});
+    image a = load_bmp(bmp), b = load_png(png), c = load_bmp(bmp2);
+    assert_int_equal(a.w, b.w);
+    assert_int_equal(a.h, b.h);
+    size_t png_size;
+    free(read_bytes(png, &png_size));
+    assert_true(png_size < (size_t)a.w * (size_t)a.h); /* compressed: under a byte per pixel */
+    /* The HUD's fps figure is wall-clock: compare everything below the HUD panel. */
+    for (int y = 80; y < a.h; y++)
+        for (int x = 0; x < a.w; x++) {
+            if (pixel(&a, x, y) != pixel(&b, x, y)) fail_msg("PNG and BMP differ at (%d, %d)", x, y);
+            if (pixel(&a, x, y) != pixel(&c, x, y)) fail_msg("two runs differ at (%d, %d)", x, y);
+        }
+    free(a.px);
+    free(b.px);
+    free(c.px);
+}
+
+/* SDL's offscreen driver gives the same frame as the dummy driver. */
+static void test_offscreen_driver(void **state)
+{
+    (void)state;
+    const char *a = path_of("dummy.bmp"), *b = path_of("offscreen.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "30", LAB_VIEW, "--screenshot", a, NULL});
+    run_result r;
+    g_child_driver = "offscreen";
+    run_play(&r, (const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "30", LAB_VIEW, "--screenshot", b, NULL});
+    if (r.status != 0 && strstr(r.err, "cannot")) {
+        print_message("skipped: SDL's offscreen video driver is not available here: %s", r.err);
+        run_free(&r);
+        skip();
+    }
+    expect_status(&r, 0);
+    run_free(&r);
+    size_t na, nb;
+    unsigned char *da = read_bytes(a, &na), *db = read_bytes(b, &nb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(da, db, na);
+    free(da);
+    free(db);
+}
+
+/* --image-stats tells a picture from a blank frame (CI uses it on the Xvfb run). */
+static void test_image_stats(void **state)
+{
+    (void)state;
+    const char *flat = path_of("flat.bmp"), *shot = path_of("stats.bmp");
+    write_flat_bmp(flat, 64, 48, 0x102030u);
+    run_result r;
+    run_play(&r, (const char *[]){"--image-stats", flat, NULL});
+    expect_status(&r, 3);
+    expect_in(r.out, "blank");
+    run_free(&r);
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--frames", "5", "--screenshot", shot, NULL});
+    run_play(&r, (const char *[]){"--image-stats", shot, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "not blank");
+    run_free(&r);
+    run_play(&r, (const char *[]){"--image-stats", path_of("missing.bmp"), NULL});
+    expect_status(&r, 1);
+    run_free(&r);
+}
+
+/* Bad input: clear messages, non-zero exit, no crash. */
+static void test_errors(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *args[8];
+        int status;
+        const char *msg;
+    } cases[] = {
+        {{"--frobnicate"}, 2, "unknown option '--frobnicate'"},
+        {{"--gizmos", "velocities,bogus"}, 2, "unknown gizmo 'bogus'"},
+        {{"--frames", "0"}, 2, "--frames '0'"},
+        {{"--frames"}, 2, "--frames needs 1 argument"},
+        {{"--size", "12x9000"}, 2, "--size '12x9000'"},
+        {{"--zoom", "nan"}, 2, "--zoom 'nan'"},
+        {{"--alpha", "2"}, 2, "--alpha '2'"},
+        {{"a.ntl", "b.ntl"}, 2, "more than one level"},
+        {{"levels/ninja.ntl", "--replay", "tests/replays/lab.ntr"}, 2, "not both"},
+        {{"no/such/level.ntl", "--frames", "1"}, 1, "cannot open 'no/such/level.ntl'"},
+        {{"--replay", "no/such.ntr", "--frames", "1"}, 1, "cannot open 'no/such.ntr'"},
+        {{"--save-dir", "no/such/dir", "--frames", "1"}, 1, "not a directory"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        run_result r;
+        run_play(&r, cases[i].args);
+        expect_status(&r, cases[i].status);
+        expect_in(r.err, cases[i].msg);
+        run_free(&r);
+    }
+    /* No display and no driver asked for: an error, not a window nobody sees. */
+    {
+        run_result r;
+        g_child_driver = "";
+        run_play(&r, (const char *[]){"levels/ninja.ntl", NULL});
+        expect_status(&r, 1);
+        if (!strstr(r.err, "no display found") && !strstr(r.err, "cannot start SDL video"))
+            fail_msg("expected a message about the missing display, got:\n%s", r.err);
+        run_free(&r);
+    }
+    /* A malformed level: the parser's FILE:LINE:COL message. */
+    write_text("bad.ntl", "ntile-level 1\nsize 4 2\ntiles\n|####|\n|#z.#|\n");
+    run_result r;
+    run_play(&r, (const char *[]){path_of("bad.ntl"), "--frames", "1", NULL});
+    expect_status(&r, 1);
+    expect_in(r.err, "bad.ntl:5:3: unknown tile code 'z'");
+    run_free(&r);
+    /* A malformed script: its line. */
+    write_text("bad.script", "1 press Right\n2 press NoSuchKey\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("bad.script"), "--frames", "1", NULL});
+    expect_status(&r, 2);
+    expect_in(r.err, "bad.script:2: unknown key name");
+    run_free(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tiles_and_bodies),   cmocka_unit_test(test_lab_collision_figures),
+        cmocka_unit_test(test_interpolation),
+        cmocka_unit_test(test_resize),             cmocka_unit_test(test_gizmo_on_off),
+        cmocka_unit_test(test_hud_and_palette),    cmocka_unit_test(test_record_replay),
+        cmocka_unit_test(test_record_edited_level), cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),
+        cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
+        cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
+        cmocka_unit_test(test_errors),
+    };
+    return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}

@@ -1,0 +1,117 @@
+/* The playground's state, shared by play.c (logic) and render.c (drawing). */
+#ifndef PG_STATE_H
+#define PG_STATE_H
+
+#include "play.h"
+
+#define PG_MAX_LEVELS 16
+#define PG_PATH_MAX 4096
+#define PG_MAX_RAYS 24
+
+/* Strip of tile swatches on the right of the window. */
+#define PG_STRIP_COLS 2
+#define PG_STRIP_ROWS 17
+
+struct pg {
+    pg_options opt;
+    char save_dir[PG_PATH_MAX];
+
+    /* Level list: the shipped levels and the one given on the command line. */
+    char *levels[PG_MAX_LEVELS];
+    int level_count, level_index;
+
+    /* The level being played: the model kept in sync with painting and the friction
+     * model switch (F2 writes it), the file it came from, and the game built from it. */
+    nt_level *level;
+    char level_path[PG_PATH_MAX];
+    bool dirty;
+    bool lab; /* show momentum and energy (lab.ntl or a level without gravity) */
+    nt_game *game;
+    nt_game_def gdef;
+    nt_real dt, dt_default; /* the tick: the replay's while one plays, else the format's 1/40 s */
+
+    /* Replay playback (--replay): its inputs drive the game. */
+    nt_replay *replay;
+    char replay_path[PG_PATH_MAX];
+    bool replay_on;
+
+    /* Time. */
+    double acc;    /* seconds of simulation owed, < dt */
+    bool paused;
+    int slow;      /* slow-motion divisor: 1, 2, 4, 8 */
+    int frame;     /* frames advanced in fixed mode */
+    double step_us; /* smoothed time of one tick */
+    uint32_t keys;
+
+    /* Recording (F5). */
+    bool recording;
+    uint32_t *rec_keys;  /* keys of ticks 1..rec_n */
+    uint32_t *rec_trace; /* folded game hash after each tick */
+    uint64_t rec_last_hash;
+    int rec_n, rec_cap;
+    bool rec_first_done;
+
+    /* Bodies thrown with the mouse (the game does not know them). */
+    nt_body_id *thrown;
+    int thrown_n, thrown_cap;
+
+    /* Tuning of thrown bodies. */
+    bool throw_circle;
+    double bounce, friction;
+    int tile; /* palette selection */
+
+    /* Mouse. */
+    double mx, my;      /* window pixels */
+    bool mouse_seen;
+    int drag;           /* button held in the view: 0, PG_MOUSE_LEFT, PG_MOUSE_RIGHT */
+    pg_vec drag_from;   /* world point where a throw started */
+    int paint_x, paint_y;
+
+    /* View. */
+    int win_w, win_h, view_w, view_h;
+    double zoom, zoom_fit;
+    pg_vec cam;
+    pg_vec pan;         /* levels without a player: the arrows move the view from the centre */
+    bool follow;
+
+    /* Render interpolation: every body's position before the last tick, by slot. */
+    pg_vec *prev;
+    uint32_t *prev_gen;
+    int prev_cap;
+
+    /* Gizmos. */
+    unsigned gizmos;
+    double proj_scale;
+    bool help;
+
+    /* Sensor overlaps, from the sensor events. */
+    pg_pair *pairs;
+    int pair_n, pair_cap;
+
+    /* The last collision between bodies (lab). */
+    bool has_collision;
+    int coll_tick;
+    double ke_before, ke_after, px_before, py_before, px_after, py_after;
+
+    /* Palette world: each tile alone in a cell, drawn through nt_world_draw. */
+    nt_world *palette;
+
+    char msg[256];
+    double msg_until; /* wall-clock seconds */
+    double clock;     /* wall-clock seconds seen (for messages only) */
+    bool fixed;       /* the last advance was a fixed frame (automation) */
+};
+
+/* play.c helpers render.c uses. */
+int pg__bodies(const pg *p, nt_body_id **out); /* every live body of the game and the thrown ones; caller frees */
+pg_vec pg__to_screen(const pg *p, double x, double y);
+pg_vec pg__to_world(const pg *p, double x, double y);
+pg_vec pg__player_pos(const pg *p, double alpha); /* interpolated */
+double pg__alpha(const pg *p);
+void pg__strip_rect(const pg *p, int *x0, int *cell, int *gap);
+/* Place the camera for this frame (render.c calls it first). */
+void pg__prepare_view(pg *p);
+/* Momentum and kinetic energy of the dynamic bodies. */
+void pg__mechanics(const pg *p, double *px, double *py, double *ke);
+
+#endif
