@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "child.h"
 #include "ntile/ntile.h"
 
 /* ---------- temporary files ---------- */
@@ -93,41 +94,7 @@ static char *read_file(const char *path)
 
 /* ---------- running the CLI ---------- */
 
-typedef struct run_result {
-    int status;
-    char *out, *err;
-} run_result;
-
-static char *slurp(int fd)
-{
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap + 1);
-    assert_non_null(buf);
-    assert_int_equal(lseek(fd, 0, SEEK_SET), 0);
-    for (;;) {
-        if (n == cap) {
-            cap *= 2;
-            buf = realloc(buf, cap + 1);
-            assert_non_null(buf);
-        }
-        ssize_t k = read(fd, buf + n, cap - n);
-        assert_true(k >= 0);
-        if (k == 0) break;
-        n += (size_t)k;
-    }
-    buf[n] = '\0';
-    return buf;
-}
-
-static int temp_fd(void)
-{
-    char p[4400];
-    snprintf(p, sizeof p, "%s/io-XXXXXX", g_dir);
-    int fd = mkstemp(p);
-    assert_true(fd >= 0);
-    unlink(p);
-    return fd;
-}
+typedef child_result run_result;
 
 /* Run `ntile ARGS...` (NULL-terminated), capturing both outputs. */
 static void run_cli(run_result *r, const char *const *args)
@@ -137,42 +104,10 @@ static void run_cli(run_result *r, const char *const *args)
         print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
         skip();
     }
-    const char *argv[64];
-    size_t n = 0;
-    argv[n++] = exe;
-    for (; args[n - 1]; n++) {
-        assert_true(n < 63);
-        argv[n] = args[n - 1];
-    }
-    argv[n] = NULL;
-    int out_fd = temp_fd(), err_fd = temp_fd();
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        int in_fd = open("/dev/null", O_RDONLY);
-        if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
-        setenv("ASAN_OPTIONS", "exitcode=99", 0);
-        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
-        execv(exe, (char *const *)argv);
-        _exit(126);
-    }
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
-    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-    r->out = slurp(out_fd);
-    r->err = slurp(err_fd);
-    close(out_fd);
-    close(err_fd);
-    if (r->status >= 125 || strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
-        fail_msg("the CLI failed badly (status %d):\n%s", r->status, r->err);
+    child_run(r, g_dir, exe, args, NULL, NULL, 125);
 }
 
-static void run_free(run_result *r)
-{
-    free(r->out);
-    free(r->err);
-}
+static void run_free(run_result *r) { child_free(r); }
 
 static void expect_status(const run_result *r, int status)
 {

@@ -23,6 +23,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "child.h"
 #include "failalloc.h"
 #include "ntile/ntile.h"
 #include "tiled/tiled.h"
@@ -1305,31 +1306,7 @@ static void test_out_of_memory(void **state)
 
 /* ---------------------------------------------------------------- the CLI */
 
-typedef struct run_result {
-    int status;
-    char *out, *err;
-} run_result;
-
-static char *read_fd(int fd)
-{
-    sbuf b = {NULL, 0, 0};
-    sb_printf(&b, "%s", "");
-    assert_int_equal(lseek(fd, 0, SEEK_SET), 0);
-    char chunk[4096];
-    ssize_t k;
-    while ((k = read(fd, chunk, sizeof chunk)) > 0) sb_printf(&b, "%.*s", (int)k, chunk);
-    return b.s;
-}
-
-static int temp_fd(void)
-{
-    char p[4400];
-    snprintf(p, sizeof p, "%s/io-XXXXXX", g_dir);
-    int fd = mkstemp(p);
-    assert_true(fd >= 0);
-    unlink(p);
-    return fd;
-}
+typedef child_result run_result;
 
 static void run_cli(run_result *r, const char *const *args)
 {
@@ -1338,32 +1315,7 @@ static void run_cli(run_result *r, const char *const *args)
         print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
         skip();
     }
-    const char *argv[16];
-    size_t n = 0;
-    argv[n++] = exe;
-    for (; args[n - 1]; n++) argv[n] = args[n - 1];
-    argv[n] = NULL;
-    int out_fd = temp_fd(), err_fd = temp_fd();
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        int in_fd = open("/dev/null", O_RDONLY);
-        if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
-        setenv("ASAN_OPTIONS", "exitcode=99", 0);
-        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
-        execv(exe, (char *const *)argv);
-        _exit(126);
-    }
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
-    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-    r->out = read_fd(out_fd);
-    r->err = read_fd(err_fd);
-    close(out_fd);
-    close(err_fd);
-    if (r->status >= 125 || strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
-        fail_msg("the CLI failed badly (status %d):\n%s", r->status, r->err);
+    child_run(r, g_dir, exe, args, NULL, NULL, 125);
 }
 
 static void test_cli(void **state)
