@@ -6,6 +6,13 @@
 #include <stdlib.h>
 #include "ntile/ntile.h"
 
+/* Everything declared here is internal: hidden from libntile.so's exports, and
+ * reached without a trip through the global offset table (the narrow phase's
+ * tables are read on every call). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
+
 /* Three strengths of assert, as in Chipmunk:
  *   NT_ASSERT_HARD  always checked: a broken invariant that would corrupt memory;
  *   NT_ASSERT       checked unless NDEBUG: a precondition the public API documents;
@@ -48,7 +55,13 @@ static inline nt_real nt__dot(nt_vec2 a, nt_vec2 b) { return a.x * b.x + a.y * b
 static inline nt_real nt__len(nt_vec2 a) { return nt__sqrt(a.x * a.x + a.y * a.y); }
 static inline nt_real nt__min(nt_real a, nt_real b) { return a < b ? a : b; }
 static inline nt_real nt__max(nt_real a, nt_real b) { return a > b ? a : b; }
-static inline nt_real nt__clamp(nt_real v, nt_real lo, nt_real hi) { return v < lo ? lo : (v > hi ? hi : v); }
+/* lo <= hi. Two selects, each a single comparison, so compilers emit max/min
+ * instructions instead of branches. */
+static inline nt_real nt__clamp(nt_real v, nt_real lo, nt_real hi)
+{
+    v = v < lo ? lo : v;
+    return v > hi ? hi : v;
+}
 
 /* --- tile tables (tiles.c) --- */
 
@@ -73,6 +86,22 @@ typedef struct nt__tile_geom {
 
 extern const nt_tile_info nt__tiles[NT_TILE_COUNT];
 extern const nt__tile_geom nt__geom[NT_TILE_COUNT];
+/* A polygon tile's face for the narrow phase. */
+typedef struct nt__face {
+    nt_real nx, ny;       /* unit outward normal */
+    nt_real tx, ty;       /* unit direction, from end 0 to end 1 */
+    nt_real vx[2], vy[2]; /* end 0 and end 1 (apart: paired, compilers load a
+                           * point as one vector after storing its halves) */
+} nt__face;
+
+/* A polygon tile's faces (3 or 4, then unused ones), ordered for the narrow phase;
+ * face i's separation is s = (ux[i]*x + uy[i]*y - ud[i]) * inv[i]. */
+typedef struct nt__poly {
+    nt_real ux[4], uy[4], ud[4], inv[4];
+    nt__face face[4];
+} nt__poly;
+
+extern const nt__poly nt__polys[NT_TILE_COUNT];
 
 /* --- narrow phase with side masks (narrow.c) ---
  * mask: bit (1 << side) set = that side of the tile is a seam with the neighbour,
@@ -127,11 +156,19 @@ static inline int nt__floor_int(nt_real v)
     return i - ((nt_real)i > v);
 }
 
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
+
 #endif /* NT_CORE_H */
 
 /* ==== world simulation internals (world.c, response.c, grid.c) ==== */
 #ifndef NT_CORE_WORLD_INTERNALS
 #define NT_CORE_WORLD_INTERNALS
+
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden) /* internal, as above */
+#endif
 #include "ntile/world.h"
 
 enum {
@@ -312,6 +349,10 @@ static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)
     return (a->flags & NT__BF_ALIVE) && (b->flags & NT__BF_ALIVE) && a->generation == c->gen_a &&
            b->generation == c->gen_b;
 }
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif
 /* ==== end of world simulation internals ==== */

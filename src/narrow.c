@@ -14,6 +14,16 @@
 
 #define SIDE_BIT(s) (1u << (s))
 
+/* GCC's straight-line vectoriser builds a double-precision nt_vec2 argument as one
+ * vector from its two stored halves: a store-forwarding stall that doubles the cost
+ * of the fast routines. The arithmetic is the same either way, so are the bits. */
+#if NT_REAL_IS_DOUBLE && defined(__GNUC__) && !defined(__clang__)
+#define NT__SCALAR __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define NT__SCALAR
+#endif
+
+
 /* Candidate pushes, chosen without branches: on random placements every "is this
  * one shorter" comparison is unpredictable, so the minimum is taken with
  * conditional moves over a small list. A masked candidate has depth NT_REAL_MAX and
@@ -51,6 +61,22 @@ static inline int pick(const cands *k, int sx_flip, int sy_flip, nt_mtv *out)
     out->normal.y = sy_flip ? -k->ny[bi] : k->ny[bi];
     out->depth = bd;
     return NT__PUSH;
+}
+
+/* Index of the smallest of two or three depths, the first on ties. Written with
+ * integer selects, which compilers keep free of branches (random placements make
+ * every comparison a coin toss). */
+static inline int first_min2(const nt_real *d)
+{
+    return d[1] < d[0];
+}
+
+static inline int first_min3(const nt_real *d)
+{
+    int i = d[1] < d[0];
+    nt_real m = nt__min(d[1], d[0]);
+    int j = d[2] < m;
+    return (j << 1) | (i & (j - 1));
 }
 
 /* A single push, mirrored back from the canonical frame. */
@@ -99,8 +125,13 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
  * B n H is clamp(c, B) when that lies in H, and otherwise the nearest point of the
  * slope segment (the constraint H is then active). Push along c - p by r - |c - p|,
  * with the face's exact normal and distance when p is inside a face (a masked face
- * then gives no push). */
-static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+ * then gives no push).
+ *
+ * circle_polygon is the unmasked case without branches on the placement: random
+ * placements make every region test a coin toss, and a mispredicted branch costs
+ * more than computing both sides. It chooses exactly what circle_polygon_general
+ * chooses (same candidates, same order, same arithmetic), so both give the same bits. */
+static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     const nt_tile_info *t = &nt__tiles[tile];
     const nt__tile_geom *g = &nt__geom[tile];
@@ -131,13 +162,12 @@ static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
     }
     nt_real px = nt__clamp(c.x, x0, x1), py = nt__clamp(c.y, y0, y1);
     if (g->has_slope && g->slope[0] * px + g->slope[1] * py > g->slope[2]) {
-        const nt__edge *e = g->edges;
-        while (e->side >= 0) e++; /* the slope: the one edge on no cell side */
-        nt_real u = (c.x - e->ax) * e->tx + (c.y - e->ay) * e->ty;
-        if (u > 0 && u < e->len) return push_out(r - ss, e->nx, e->ny, 0, 0, out);
-        nt_real uc = u <= 0 ? 0 : e->len;
-        px = e->ax + e->tx * uc;
-        py = e->ay + e->ty * uc;
+        const nt__face *e = &nt__polys[tile].face[0]; /* the slope comes first */
+        int before = (c.x - e->vx[0]) * e->tx + (c.y - e->vy[0]) * e->ty <= 0;
+        int after = (c.x - e->vx[1]) * e->tx + (c.y - e->vy[1]) * e->ty >= 0;
+        if (!before && !after) return push_out(r - ss, e->nx, e->ny, 0, 0, out);
+        px = e->vx[after];
+        py = e->vy[after];
     } else if ((px == c.x) != (py == c.y)) {
         /* Inside one face's slab: the nearest point is on that face. */
         int horiz = px == c.x; /* the nearest face is horizontal (top or bottom) */
@@ -161,6 +191,49 @@ static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
     if (dist >= r) return NT__SEPARATE;
     return push_out(r - dist, vx / dist, vy / dist, 0, 0, out);
+}
+
+
+/* Below this squared distance a centre just outside the tile could lose its
+ * direction to underflow; the general routine measures those. */
+#if NT_REAL_IS_DOUBLE
+#define TINY_D2 1e-290
+#else
+#define TINY_D2 1e-30f
+#endif
+
+NT__SCALAR static int circle_polygon(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
+    if (mask) return circle_polygon_general(tile, c, r, mask, out);
+    /* The face of largest separation s; ties keep the first listed (a tournament
+     * of pairs, which compilers keep free of branches). Inside, that face is the
+     * way out. Outside, the nearest point of a convex polygon lies on that face or
+     * is one of its two ends. */
+    const nt__poly *f = &nt__polys[tile];
+    nt_real sv[4], cx = c.x, cy = c.y;
+    for (int q = 0; q < 4; q++) sv[q] = (f->ux[q] * cx + f->uy[q] * cy - f->ud[q]) * f->inv[q];
+    nt_real s0 = sv[0], s1 = sv[1], s2 = sv[2], s3 = sv[3];
+    int i01 = s1 > s0, i23 = s3 > s2;
+    nt_real m01 = nt__max(s1, s0), m23 = nt__max(s3, s2);
+    int hi = m23 > m01;
+    nt_real bs = nt__max(m23, m01);
+    if (bs >= r) return NT__SEPARATE; /* also a point (r = 0) on the boundary */
+    const nt__face *e = &f->face[(hi << 1) | ((i23 & -hi) | (i01 & (hi - 1)))];
+    /* Beyond an end: measured from that end, so that a centre a rounding error away
+     * from a vertex still finds the right side of it. */
+    nt_real u[2];
+    for (int q = 0; q < 2; q++) u[q] = (cx - e->vx[q]) * e->tx + (cy - e->vy[q]) * e->ty;
+    int end = u[1] >= 0; /* beyond end 1 */
+    if ((bs > 0) & (end | (u[0] <= 0))) {
+        /* Outside, beyond an end of the face: the nearest point is that end. */
+        nt_real vx = cx - e->vx[end], vy = cy - e->vy[end];
+        nt_real d2 = vx * vx + vy * vy;
+        if (d2 < TINY_D2) return circle_polygon_general(tile, c, r, mask, out);
+        nt_real dist = nt__sqrt(d2);
+        if (dist >= r) return NT__SEPARATE;
+        return push_out(r - dist, vx / dist, vy / dist, 0, 0, out);
+    }
+    return push_out(r - bs, e->nx, e->ny, 0, 0, out);
 }
 
 /* Canonical frame of a round tile: its `pn` orientation. */
@@ -211,7 +284,7 @@ static int aabb_convex(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *ou
 /* ---------- circle vs CONVEX ----------
  * Convex tile: nearest-point logic, with the arc's Voronoi region being the quadrant
  * x >= 0, y <= 1 seen from o. */
-static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+static int circle_convex_general(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     canon k = to_canon(tile, c, mask);
     nt_real x = k.x, y = k.y;
@@ -272,6 +345,31 @@ static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *
     return push_out(r - dist, vx / dist, vy / dist, k.fx, k.fy, out);
 }
 
+/* The unmasked case in one pass. Every candidate is the distance to a piece of
+ * the free set: the half-planes x <= -r and y >= 1 + r, and the outside of a disc
+ * around the nearest point p of the tile's support: the arc's centre o with radius
+ * 1 + r in the arc's quadrant (x >= 0, y <= 1), elsewhere the nearest point of
+ * the cell with radius r (the tile's faces and corners there). The smallest is
+ * the way out; none positive means the circle is free. */
+NT__SCALAR static int circle_convex(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
+    if (mask) return circle_convex_general(tile, c, r, mask, out);
+    canon k = to_canon(tile, c, 0);
+    nt_real x = k.x, y = k.y;
+    int quad = (x >= 0) & (y <= 1);
+    /* Selections by index: compilers keep them free of branches. */
+    const nt_real px[2] = {nt__clamp(x, 0, 1), 0}, py[2] = {nt__clamp(y, 0, 1), 1};
+    nt_real vx = x - px[quad], vy = y - py[quad];
+    nt_real d2 = vx * vx + vy * vy;
+    if (d2 < TINY_D2) return circle_convex_general(tile, c, r, mask, out);
+    nt_real dist = nt__sqrt(d2);
+    const nt_real d[3] = {((nt_real)quad - dist) + r, 1 - y + r, x + r};
+    const nt_real nx[3] = {vx / dist, 0, -1}, ny[3] = {vy / dist, 1, 0};
+    int i = first_min3(d);
+    if (d[i] <= 0) return NT__SEPARATE;
+    return push_out(d[i], nx[i], ny[i], k.fx, k.fy, out);
+}
+
 /* ---------- box vs CONCAVE (cell minus the disc of radius 1 around o = (1,0)) ----------
  * A box is free iff it leaves the cell's span on some side, or its corner nearest
  * the solid, p = (left, bottom), lies in the disc: the part of the box inside the
@@ -320,7 +418,7 @@ static inline void cand_vertex(cands *q, nt_real x, nt_real y, nt_real vx, nt_re
  * cusp (1,1): x >= 1; corner (0,1): x <= 0 and y >= 1). A vertex candidate whose
  * nearest circle point falls outside its cone is dominated by a neighbouring piece,
  * whose end point it would be. */
-static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+static int circle_concave_general(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     canon k = to_canon(tile, c, mask);
     nt_real x = k.x, y = k.y;
@@ -357,26 +455,55 @@ static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv 
     return pick(&q, k.fx, k.fy, out);
 }
 
+/* The unmasked case away from the vertices' cones (y <= 0, x >= 1, and x <= 0
+ * with y >= 1) in one pass: there the free set is the four half-planes and the
+ * disc, so the smallest candidate is the way out and none positive means free. */
+NT__SCALAR static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
+    canon k = to_canon(tile, c, 0);
+    nt_real x = k.x, y = k.y;
+    if (mask | (y <= 0) | (x >= 1) | ((x <= 0) & (y >= 1))) return circle_concave_general(tile, c, r, mask, out);
+    nt_real ox = x - 1, oy = y;
+    nt_real dist_o = nt__sqrt(ox * ox + oy * oy); /* > 0: x < 1 */
+    const nt_real d[5] = {dist_o - (1 - r), y + r, 1 + r - y, x + r, 1 + r - x};
+    const nt_real nx[5] = {-ox / dist_o, 0, 0, -1, 1}, ny[5] = {-oy / dist_o, -1, 1, 0, 0};
+    int i = first_min3(d), j = first_min2(d + 3) + 3;
+    i = d[j] < d[i] ? j : i;
+    if (d[i] <= 0) return NT__SEPARATE;
+    return push_out(d[i], nx[i], ny[i], k.fx, k.fy, out);
+}
+
+/* Dispatch through a table by shape class: one indexed call, not a chain of
+ * comparisons. */
+typedef int (*aabb_fn)(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out);
+typedef int (*circle_fn)(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out);
+
+static int aabb_none(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out)
+{
+    (void)tile, (void)c, (void)h, (void)mask, (void)out;
+    return NT__SEPARATE;
+}
+
+static int circle_none(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
+    (void)tile, (void)c, (void)r, (void)mask, (void)out;
+    return NT__SEPARATE;
+}
+
+/* Indexed by nt_tile_class. */
+static const aabb_fn aabb_by_class[] = {aabb_none, aabb_polygon, aabb_convex, aabb_concave};
+static const circle_fn circle_by_class[] = {circle_none, circle_polygon, circle_convex, circle_concave};
+
 int nt__collide_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out)
 {
-    if (tile <= NT_TILE_EMPTY || tile >= NT_TILE_COUNT) return NT__SEPARATE;
-    switch (nt__tiles[tile].cls) {
-    case NT_CLASS_POLYGON: return aabb_polygon(tile, c, h, mask, out);
-    case NT_CLASS_CONVEX: return aabb_convex(tile, c, h, mask, out);
-    case NT_CLASS_CONCAVE: return aabb_concave(tile, c, h, mask, out);
-    default: return NT__SEPARATE;
-    }
+    if ((unsigned)tile >= NT_TILE_COUNT) return NT__SEPARATE;
+    return aabb_by_class[nt__tiles[tile].cls](tile, c, h, mask, out);
 }
 
 int nt__collide_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
-    if (tile <= NT_TILE_EMPTY || tile >= NT_TILE_COUNT) return NT__SEPARATE;
-    switch (nt__tiles[tile].cls) {
-    case NT_CLASS_POLYGON: return circle_polygon(tile, c, r, mask, out);
-    case NT_CLASS_CONVEX: return circle_convex(tile, c, r, mask, out);
-    case NT_CLASS_CONCAVE: return circle_concave(tile, c, r, mask, out);
-    default: return NT__SEPARATE;
-    }
+    if ((unsigned)tile >= NT_TILE_COUNT) return NT__SEPARATE;
+    return circle_by_class[nt__tiles[tile].cls](tile, c, r, mask, out);
 }
 
 /* The masked routines write *out only when they push, so a caller's NULL can be

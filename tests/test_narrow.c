@@ -178,6 +178,54 @@ static void test_random_small_near_surface(void **state)
     assert_int_equal(failures, 0);
 }
 
+/* Centres within 1e-6 to 1e-2 of a tile vertex or cusp (every vertex lies on the
+ * 1/2 grid), inside and outside: where the routines decide between a face and a
+ * vertex, and where rounding picks the side. */
+static void test_near_vertices(void **state)
+{
+    (void)state;
+    int failures = 0, overlaps = 0;
+    char buf[96];
+    ref_rng rng = ref_rng_seed(4242);
+    for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
+        for (int i = 0; i < 3000; i++) {
+            int circle = i & 1;
+            ref_shape s = circle ? ref_circle(rr(ref_rng_uniform(&rng, 0.02, 0.5)))
+                                 : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
+            double vx = ref_rng_int(&rng, 3) / 2.0, vy = ref_rng_int(&rng, 3) / 2.0;
+            double scale = pow(10, -ref_rng_uniform(&rng, 2, 6));
+            double cx = rr(vx + scale * ref_rng_uniform(&rng, -1, 1)), cy = rr(vy + scale * ref_rng_uniform(&rng, -1, 1));
+            if (!circle) { /* a box's corner near the vertex, not its centre */
+                cx = rr(cx + (ref_rng_int(&rng, 2) ? s.hw : -s.hw));
+                cy = rr(cy + (ref_rng_int(&rng, 2) ? s.hh : -s.hh));
+            }
+            bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
+            bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
+            if (lo != hi) continue;
+            nt_mtv m = {{0, 0}, 0};
+            bool got = eng_tile(tile, s, cx, cy, &m);
+            const char *why = NULL;
+            double want_d = 0;
+            if (got != lo) {
+                why = lo ? "engine misses an overlap" : "engine reports an overlap that is not there";
+            } else if (lo) {
+                overlaps++;
+                want_d = ref_mtv_tile(tile, s, cx, cy, NULL, NULL);
+                if (!(fabs(m.depth - want_d) <= DEPTH_TOL)) why = "depth differs from the reference minimum";
+                else why = check_mtv_frees(tile, s, cx, cy, &m);
+            }
+            if (why && failures++ < 12)
+                print_message("near vertex: %s, %s at (%.9g, %.9g): %s (engine %d depth %.9g normal (%.6g,%.6g); "
+                              "reference %d depth %.9g)\n",
+                              ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, why, got, (double)m.depth,
+                              (double)m.normal.x, (double)m.normal.y, lo, want_d);
+        }
+    }
+    print_message("near vertices: %d overlaps, %d failures\n", overlaps, failures);
+    assert_true(overlaps > 20000);
+    assert_int_equal(failures, 0);
+}
+
 /* Placements on a 1/16 grid (exact in binary): centres on vertices, edges and cusps,
  * sizes that make exact contacts. The reference is exact on these inputs (its box test
  * uses only products of grid values by 0.5 or 1; circles meet slopes only at vertices).
@@ -713,6 +761,7 @@ int main(void)
         cmocka_unit_test(test_random_circle),
         cmocka_unit_test(test_random_small_near_surface),
         cmocka_unit_test(test_grid_placements),
+        cmocka_unit_test(test_near_vertices),
         cmocka_unit_test(test_pairs_touching),
         cmocka_unit_test(test_pairs_coincident),
         cmocka_unit_test(test_pairs_random),
