@@ -76,12 +76,43 @@ static const char *check_mtv_frees(int tile, ref_shape s, double cx, double cy, 
     return NULL;
 }
 
+/* One placement against the reference. Returns -1 when the object is within
+ * TOUCH_SKIP of touching (not checked), else whether it overlaps; a wrong verdict, a
+ * depth off the reference minimum or an MTV that does not free the object counts in
+ * *failures (the first 12 printed, prefixed with label). Tracks the largest depth
+ * error in g_max_err. */
+static int check_placement(const char *label, int tile, ref_shape s, double cx, double cy, int *failures)
+{
+    char buf[96];
+    bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
+    bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
+    if (lo != hi) return -1;
+    nt_mtv m = {{0, 0}, 0};
+    bool got = eng_tile(tile, s, cx, cy, &m);
+    const char *why = NULL;
+    double want_d = 0;
+    if (got != lo) {
+        why = lo ? "engine misses an overlap" : "engine reports an overlap that is not there";
+    } else if (lo) {
+        want_d = ref_mtv_tile(tile, s, cx, cy, NULL, NULL);
+        double err = fabs(m.depth - want_d);
+        if (err > g_max_err) g_max_err = err;
+        if (!(err <= DEPTH_TOL)) why = "depth differs from the reference minimum";
+        else why = check_mtv_frees(tile, s, cx, cy, &m);
+    }
+    if (why && (*failures)++ < 12)
+        print_message("%s%s, %s at (%.9g, %.9g): %s (engine %d depth %.9g normal (%.6g,%.6g); "
+                      "reference %d depth %.9g)\n",
+                      label, ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, why, got, (double)m.depth,
+                      (double)m.normal.x, (double)m.normal.y, lo, want_d);
+    return lo;
+}
+
 /* --------------------------------------------------- (a) random placements */
 
 static void run_random(int circle, int per_tile, unsigned long long seed)
 {
     int failures = 0, overlaps = 0, checked = 0;
-    char buf[96];
     g_api_mismatch = 0;
     g_max_err = 0;
     for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
@@ -92,31 +123,10 @@ static void run_random(int circle, int per_tile, unsigned long long seed)
                                  : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
             if (i % 20 == 0) s = circle ? ref_circle(0) : ref_aabb(0, 0); /* a point */
             double cx = rr(ref_rng_uniform(&rng, -0.6, 1.6)), cy = rr(ref_rng_uniform(&rng, -0.6, 1.6));
-            bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
-            bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
-            if (lo != hi) continue;
-            checked++;
-            nt_mtv m = {{0, 0}, 0};
-            bool got = eng_tile(tile, s, cx, cy, &m);
-            const char *why = NULL;
-            double want_d = 0;
-            if (got != lo) {
-                why = lo ? "engine misses an overlap" : "engine reports an overlap that is not there";
-            } else if (lo) {
-                overlaps++;
-                tile_overlaps++;
-                double dx, dy;
-                want_d = ref_mtv_tile(tile, s, cx, cy, &dx, &dy);
-                double err = fabs(m.depth - want_d);
-                if (err > g_max_err) g_max_err = err;
-                if (!(err <= DEPTH_TOL)) why = "depth differs from the reference minimum";
-                else why = check_mtv_frees(tile, s, cx, cy, &m);
-            }
-            if (why && failures++ < 12)
-                print_message("%s, %s at (%.9g, %.9g): %s (engine %d depth %.9g normal (%.6g,%.6g); "
-                              "reference %d depth %.9g)\n",
-                              ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, why, got, (double)m.depth,
-                              (double)m.normal.x, (double)m.normal.y, lo, want_d);
+            int r = check_placement("", tile, s, cx, cy, &failures);
+            checked += r >= 0;
+            overlaps += r > 0;
+            tile_overlaps += r > 0;
         }
         /* Enough overlapping placements per tile for the depth checks to mean something. */
         if (tile_overlaps < per_tile / 8) fail_msg("%s: only %d overlaps", ref_tile_name(tile), tile_overlaps);
@@ -145,7 +155,6 @@ static void test_random_small_near_surface(void **state)
 {
     (void)state;
     int failures = 0;
-    char buf[96];
     ref_rng rng = ref_rng_seed(77);
     for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
         for (int i = 0; i < 600; i++) {
@@ -154,25 +163,7 @@ static void test_random_small_near_surface(void **state)
                                  : ref_aabb(rr(ref_rng_uniform(&rng, 0.001, 0.05)), rr(ref_rng_uniform(&rng, 0.001, 0.05)));
             double cx = rr(ref_rng_uniform(&rng, -0.1, 1.1)), cy = rr(ref_rng_uniform(&rng, -0.1, 1.1));
             if (fabs(ref_tile_signed_distance(tile, cx, cy)) > 0.08) continue;
-            bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
-            bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
-            if (lo != hi) continue;
-            nt_mtv m = {{0, 0}, 0};
-            bool got = eng_tile(tile, s, cx, cy, &m);
-            const char *why = NULL;
-            double want_d = 0;
-            if (got != lo) {
-                why = lo ? "engine misses an overlap" : "engine reports an overlap that is not there";
-            } else if (lo) {
-                want_d = ref_mtv_tile(tile, s, cx, cy, NULL, NULL);
-                if (!(fabs(m.depth - want_d) <= DEPTH_TOL)) why = "depth differs from the reference minimum";
-                else why = check_mtv_frees(tile, s, cx, cy, &m);
-            }
-            if (why && failures++ < 12)
-                print_message("%s, %s at (%.9g, %.9g): %s (engine %d depth %.9g normal (%.6g,%.6g); "
-                              "reference %d depth %.9g)\n",
-                              ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, why, got, (double)m.depth,
-                              (double)m.normal.x, (double)m.normal.y, lo, want_d);
+            check_placement("", tile, s, cx, cy, &failures);
         }
     }
     assert_int_equal(failures, 0);
@@ -185,7 +176,6 @@ static void test_near_vertices(void **state)
 {
     (void)state;
     int failures = 0, overlaps = 0;
-    char buf[96];
     ref_rng rng = ref_rng_seed(4242);
     for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
         for (int i = 0; i < 3000; i++) {
@@ -199,26 +189,7 @@ static void test_near_vertices(void **state)
                 cx = rr(cx + (ref_rng_int(&rng, 2) ? s.hw : -s.hw));
                 cy = rr(cy + (ref_rng_int(&rng, 2) ? s.hh : -s.hh));
             }
-            bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
-            bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
-            if (lo != hi) continue;
-            nt_mtv m = {{0, 0}, 0};
-            bool got = eng_tile(tile, s, cx, cy, &m);
-            const char *why = NULL;
-            double want_d = 0;
-            if (got != lo) {
-                why = lo ? "engine misses an overlap" : "engine reports an overlap that is not there";
-            } else if (lo) {
-                overlaps++;
-                want_d = ref_mtv_tile(tile, s, cx, cy, NULL, NULL);
-                if (!(fabs(m.depth - want_d) <= DEPTH_TOL)) why = "depth differs from the reference minimum";
-                else why = check_mtv_frees(tile, s, cx, cy, &m);
-            }
-            if (why && failures++ < 12)
-                print_message("near vertex: %s, %s at (%.9g, %.9g): %s (engine %d depth %.9g normal (%.6g,%.6g); "
-                              "reference %d depth %.9g)\n",
-                              ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, why, got, (double)m.depth,
-                              (double)m.normal.x, (double)m.normal.y, lo, want_d);
+            overlaps += check_placement("near vertex: ", tile, s, cx, cy, &failures) > 0;
         }
     }
     print_message("near vertices: %d overlaps, %d failures\n", overlaps, failures);
