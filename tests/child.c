@@ -17,8 +17,8 @@
 
 #include "child.h"
 
-/* The whole content of fd, from its start, NUL-terminated. */
-static char *slurp(int fd)
+/* The whole content of fd, from its start, NUL-terminated; its length in *len. */
+static char *slurp(int fd, size_t *len)
 {
     size_t cap = 4096, n = 0;
     char *buf = malloc(cap + 1);
@@ -36,6 +36,7 @@ static char *slurp(int fd)
         n += (size_t)k;
     }
     buf[n] = '\0';
+    *len = n;
     return buf;
 }
 
@@ -53,6 +54,12 @@ static int temp_fd(const char *dir)
 void child_run(child_result *r, const char *dir, const char *exe, const char *const *args, void (*setup)(void *ctx),
                void *ctx, int bad_status)
 {
+    child_run_input(r, dir, exe, args, NULL, setup, ctx, bad_status);
+}
+
+void child_run_input(child_result *r, const char *dir, const char *exe, const char *const *args,
+                     const char *stdin_path, void (*setup)(void *ctx), void *ctx, int bad_status)
+{
     const char *argv[96];
     size_t n = 0;
     argv[n++] = exe;
@@ -66,7 +73,7 @@ void child_run(child_result *r, const char *dir, const char *exe, const char *co
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
-        int in_fd = open("/dev/null", O_RDONLY);
+        int in_fd = open(stdin_path ? stdin_path : "/dev/null", O_RDONLY);
         if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
         /* Under the sanitizers, a report must not pass for the program's own status. */
         setenv("ASAN_OPTIONS", "exitcode=99", 0);
@@ -78,8 +85,10 @@ void child_run(child_result *r, const char *dir, const char *exe, const char *co
     int ws;
     while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
     r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-    r->out = slurp(out_fd);
-    r->err = slurp(err_fd);
+    if (r->status == 125) fail_msg("%s: could not redirect its input or output", exe);
+    if (r->status == 126) fail_msg("could not run %s", exe);
+    r->out = slurp(out_fd, &r->out_len);
+    r->err = slurp(err_fd, &r->err_len);
     close(out_fd);
     close(err_fd);
     if (r->status >= bad_status || strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))

@@ -3,10 +3,13 @@
 #ifndef NTILE_TESTS_CHILD_H
 #define NTILE_TESTS_CHILD_H
 
+#include <stddef.h>
+
 typedef struct child_result {
     int status; /* exit status; 128 + signal when killed */
     char *out;  /* standard output, NUL-terminated */
     char *err;  /* standard error */
+    size_t out_len, err_len;
 } child_result;
 
 /* Run exe with args (NULL-terminated; args[0] is the first argument), standard input
@@ -16,6 +19,9 @@ typedef struct child_result {
  * exited with bad_status or more. */
 void child_run(child_result *r, const char *dir, const char *exe, const char *const *args, void (*setup)(void *ctx),
                void *ctx, int bad_status);
+/* The same with standard input from stdin_path (/dev/null when NULL). */
+void child_run_input(child_result *r, const char *dir, const char *exe, const char *const *args,
+                     const char *stdin_path, void (*setup)(void *ctx), void *ctx, int bad_status);
 void child_free(child_result *r);
 
 #endif

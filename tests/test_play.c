@@ -30,18 +30,15 @@
 
 #include "../tools/ntile-play/colors.h"
 #include "child.h"
+#include "scratch.h"
 #include "ntile/game.h"
 
-/* ---------- temporary files ---------- */
-
-static char g_dir[4096];
+/* ---------- temporary files (scratch.h) ---------- */
 
 static int group_setup(void **state)
 {
     (void)state;
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-play-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_dir)) return -1;
+    if (scratch_create("play") != 0) return -1;
     /* No display needed: SDL's dummy video driver (a test may choose another). */
     setenv("SDL_VIDEODRIVER", "dummy", 1);
     setenv("SDL_AUDIODRIVER", "dummy", 1);
@@ -51,65 +48,8 @@ static int group_setup(void **state)
 static int group_teardown(void **state)
 {
     (void)state;
-    DIR *d = opendir(g_dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)) != NULL) {
-            if (e->d_name[0] == '.') continue;
-            char p[4400];
-            snprintf(p, sizeof p, "%s/%s", g_dir, e->d_name);
-            unlink(p);
-        }
-        closedir(d);
-    }
-    rmdir(g_dir);
+    scratch_remove();
     return 0;
-}
-
-static const char *path_of(const char *name)
-{
-    static char buf[16][4400];
-    static int k;
-    char *p = buf[k++ % 16];
-    snprintf(p, 4400, "%s/%s", g_dir, name);
-    return p;
-}
-
-static void write_text(const char *name, const char *text)
-{
-    FILE *f = fopen(path_of(name), "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-    assert_int_equal(fclose(f), 0);
-}
-
-static unsigned char *read_bytes(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) fail_msg("cannot open %s: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap + 1);
-    assert_non_null(buf);
-    for (;;) {
-        if (n == cap) {
-            cap *= 2;
-            buf = realloc(buf, cap + 1);
-            assert_non_null(buf);
-        }
-        size_t k = fread(buf + n, 1, cap - n, f);
-        if (k == 0) break;
-        n += k;
-    }
-    fclose(f);
-    buf[n] = '\0';
-    *len = n;
-    return buf;
-}
-
-static char *read_text(const char *path)
-{
-    size_t n;
-    return (char *)read_bytes(path, &n);
 }
 
 /* ---------- running programs ---------- */
@@ -150,7 +90,7 @@ static void run_exe(run_result *r, const char *exe, const char *const *args)
 {
     const char *driver = g_child_driver;
     g_child_driver = NULL; /* one run only, even if this one fails */
-    child_run(r, g_dir, exe, args, set_driver, (void *)driver, 99);
+    child_run(r, scratch_dir(), exe, args, set_driver, (void *)driver, 99);
 }
 
 static void run_play(run_result *r, const char *const *args) { run_exe(r, play_exe(), args); }
@@ -189,7 +129,7 @@ static uint32_t le32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t
 static image load_bmp(const char *path)
 {
     size_t n;
-    unsigned char *b = read_bytes(path, &n);
+    unsigned char *b = (unsigned char *)scratch_read(path, &n);
     if (n < 54 || b[0] != 'B' || b[1] != 'M') fail_msg("%s is not a BMP", path);
     uint32_t off = le32(b + 10);
     int32_t w = (int32_t)le32(b + 18), h = (int32_t)le32(b + 22);
@@ -356,7 +296,7 @@ static uint32_t crc32_of(const unsigned char *p, size_t n)
 static image load_png(const char *path)
 {
     size_t n;
-    unsigned char *d = read_bytes(path, &n);
+    unsigned char *d = (unsigned char *)scratch_read(path, &n);
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (n < 8 || memcmp(d, sig, 8) != 0) fail_msg("%s: not a PNG", path);
     size_t at = 8, zn = 0;
@@ -425,7 +365,7 @@ static image load_png(const char *path)
 
 static nt_level *load_level(const char *path)
 {
-    char *text = read_text(path);
+    char *text = scratch_read(path, NULL);
     nt_level *lv = NULL;
     nt_text_error e;
     if (nt_level_parse(path, text, strlen(text), &lv, &e) != NT_OK) fail_msg("%s", e.message);
@@ -460,7 +400,7 @@ static nt_vec2 body_after(const char *level, const char *name, int ticks)
 static void test_tiles_and_bodies(void **state)
 {
     (void)state;
-    const char *out = path_of("lab40.bmp");
+    const char *out = scratch_path("lab40.bmp");
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--screenshot", out, NULL});
     image im = load_bmp(out);
     assert_int_equal(im.w, 960);
@@ -503,7 +443,7 @@ static void test_lab_collision_figures(void **state)
 static void test_interpolation(void **state)
 {
     (void)state;
-    const char *a0 = path_of("alpha0.bmp"), *a5 = path_of("alpha5.bmp");
+    const char *a0 = scratch_path("alpha0.bmp"), *a5 = scratch_path("alpha5.bmp");
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0", "--screenshot", a0, NULL});
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--alpha", "0.5", "--screenshot", a5, NULL});
     image i0 = load_bmp(a0), i5 = load_bmp(a5);
@@ -525,9 +465,9 @@ static void test_interpolation(void **state)
 static void test_resize(void **state)
 {
     (void)state;
-    write_text("resize.script", "2 resize 640 400\n");
-    const char *out = path_of("resized.bmp");
-    play_ok((const char *[]){"levels/ninja.ntl", "--script", path_of("resize.script"), "--frames", "4", "--screenshot", out, NULL});
+    scratch_write_text("resize.script", "2 resize 640 400\n");
+    const char *out = scratch_path("resized.bmp");
+    play_ok((const char *[]){"levels/ninja.ntl", "--script", scratch_path("resize.script"), "--frames", "4", "--screenshot", out, NULL});
     image im = load_bmp(out);
     assert_int_equal(im.w, 640);
     assert_int_equal(im.h, 400);
@@ -541,7 +481,7 @@ static void test_resize(void **state)
 static void test_gizmo_on_off(void **state)
 {
     (void)state;
-    const char *on = path_of("gz-on.bmp"), *off = path_of("gz-off.bmp");
+    const char *on = scratch_path("gz-on.bmp"), *off = scratch_path("gz-off.bmp");
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--gizmos", "velocities,edges",
                              "--screenshot", on, NULL});
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--screenshot", off, NULL});
@@ -567,10 +507,10 @@ static void test_gizmo_on_off(void **state)
 static void test_hud_and_palette(void **state)
 {
     (void)state;
-    const char *out = path_of("hud.bmp"), *out2 = path_of("hud-tab.bmp");
-    write_text("tab.script", "1 press Tab\n");
+    const char *out = scratch_path("hud.bmp"), *out2 = scratch_path("hud-tab.bmp");
+    scratch_write_text("tab.script", "1 press Tab\n");
     play_ok((const char *[]){"levels/ninja.ntl", "--frames", "2", "--size", "1024x640", "--screenshot", out, NULL});
-    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "2", "--size", "1024x640", "--script", path_of("tab.script"),
+    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "2", "--size", "1024x640", "--script", scratch_path("tab.script"),
                              "--screenshot", out2, NULL});
     image a = load_bmp(out), b = load_bmp(out2);
     /* The strip's geometry (render.c): cells of c pixels with 4-pixel gaps below a 24-pixel title. */
@@ -597,7 +537,7 @@ static void test_hud_and_palette(void **state)
 static void test_record_replay(void **state)
 {
     (void)state;
-    write_text("rec.script", "1 press F5\n"
+    scratch_write_text("rec.script", "1 press F5\n"
                              "2 down Right\n"
                              "40 down Z\n"
                              "48 up Z\n"
@@ -609,14 +549,14 @@ static void test_record_replay(void **state)
                              "90 up Space\n"
                              "100 up Left\n"
                              "120 press F5\n");
-    const char *rec = path_of("rec.ntr");
+    const char *rec = scratch_path("rec.ntr");
     run_result r;
-    run_play(&r, (const char *[]){"levels/ninja.ntl", "--script", path_of("rec.script"), "--frames", "130", "--record", rec,
-                                  "--save-dir", g_dir, NULL});
+    run_play(&r, (const char *[]){"levels/ninja.ntl", "--script", scratch_path("rec.script"), "--frames", "130", "--record", rec,
+                                  "--save-dir", scratch_dir(), NULL});
     expect_status(&r, 0);
     expect_in(r.out, "recorded 119 ticks");
     run_free(&r);
-    char *text = read_text(rec);
+    char *text = scratch_read(rec, NULL);
     expect_in(text, "ticks 119\n");
     expect_in(text, "input 1. 38R 8RJ 22R 5. 1L 14LJ 10L 20.\n");
     expect_in(text, NT_REAL_IS_DOUBLE ? "hash double 119 0x" : "hash float 119 0x");
@@ -653,10 +593,10 @@ static void test_record_replay(void **state)
     assert_true(rep.hash_failures > 0);
     assert_int_equal(rep.first_divergence, 2);
     nt_run_report_free(&rep);
-    write_text("rec-bad.ntr", bad);
+    scratch_write_text("rec-bad.ntr", bad);
     if (ntile && *ntile) {
         /* The level path in the file is relative to the replay's directory: same directory. */
-        run_exe(&r, ntile, (const char *[]){"run", path_of("rec-bad.ntr"), NULL});
+        run_exe(&r, ntile, (const char *[]){"run", scratch_path("rec-bad.ntr"), NULL});
         expect_status(&r, 1);
         expect_in(r.out, "first tick that diverges: 2");
         run_free(&r);
@@ -675,31 +615,31 @@ static void test_record_edited_level(void **state)
     (void)state;
     /* In the lab (20 x 12 cells, drawn at 2 pixels a unit): paint cell (9, 5) in the
      * path of the pucks, switch the friction model, record 81 ticks. */
-    write_text("edit.script", "1 mouse down right 456 264\n"
+    scratch_write_text("edit.script", "1 mouse down right 456 264\n"
                               "1 mouse up right 456 264\n"
                               "2 press F\n"
                               "3 press F5\n"
                               "84 press F5\n");
     run_result r;
-    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("edit.script"), "--frames", "85", LAB_VIEW,
-                                  "--save-dir", g_dir, NULL});
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("edit.script"), "--frames", "85", LAB_VIEW,
+                                  "--save-dir", scratch_dir(), NULL});
     expect_status(&r, 0);
     run_free(&r);
-    nt_level *lv = load_level(path_of("lab-edit.ntl"));
+    nt_level *lv = load_level(scratch_path("lab-edit.ntl"));
     assert_int_equal(lv->tiles[5 * lv->width + 9], NT_TILE_FULL);
     assert_int_equal(lv->friction_model, NT_FRICTION_COULOMB);
     nt_level_destroy(lv);
-    char *text = read_text(path_of("lab-edit-001.ntr"));
+    char *text = scratch_read(scratch_path("lab-edit-001.ntr"), NULL);
     expect_in(text, "level lab-edit.ntl\n");
     expect_in(text, "ticks 81\n"); /* frames 3 .. 83 */
     free(text);
     const char *ntile = getenv("NTILE");
     if (ntile && *ntile) {
-        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-edit-001.ntr"), NULL});
+        run_exe(&r, ntile, (const char *[]){"run", scratch_path("lab-edit-001.ntr"), NULL});
         expect_status(&r, 0);
         run_free(&r);
         /* Against the original level the same inputs do not give the same run. */
-        char *t2 = read_text(path_of("lab-edit-001.ntr"));
+        char *t2 = scratch_read(scratch_path("lab-edit-001.ntr"), NULL);
         char *at = strstr(t2, "level lab-edit.ntl");
         assert_non_null(at);
         char cwd[4096], line[4400];
@@ -711,8 +651,8 @@ static void test_record_edited_level(void **state)
         memcpy(t3, t2, head);
         strcpy(t3 + head, line);
         strcat(t3, at + strlen("level lab-edit.ntl"));
-        write_text("lab-orig.ntr", t3);
-        run_exe(&r, ntile, (const char *[]){"run", path_of("lab-orig.ntr"), NULL});
+        scratch_write_text("lab-orig.ntr", t3);
+        run_exe(&r, ntile, (const char *[]){"run", scratch_path("lab-orig.ntr"), NULL});
         expect_status(&r, 1);
         run_free(&r);
         free(t2);
@@ -727,14 +667,14 @@ static void test_paint_and_save(void **state)
 {
     (void)state;
     /* Cells (5, 5) .. (7, 5): centres at world (132, 132) .. (180, 132). */
-    write_text("paint.script", "1 mouse down right 264 264\n"
+    scratch_write_text("paint.script", "1 mouse down right 264 264\n"
                                "2 mouse move 312 264\n"
                                "3 mouse move 360 264\n"
                                "3 mouse up right 360 264\n"
                                "4 press F2\n");
-    const char *out = path_of("paint.bmp"), *saved = path_of("painted.ntl");
+    const char *out = scratch_path("paint.bmp"), *saved = scratch_path("painted.ntl");
     run_result r;
-    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("paint.script"), "--frames", "6", LAB_VIEW,
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("paint.script"), "--frames", "6", LAB_VIEW,
                                   "--gizmos", "edges", "--save", saved, "--screenshot", out, NULL});
     expect_status(&r, 0);
     run_free(&r);
@@ -763,12 +703,12 @@ static void test_paint_and_save(void **state)
 static void test_throw_and_delete(void **state)
 {
     (void)state;
-    write_text("throw.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n");
-    write_text("delete.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n5 mouse down middle 120 120\n"
+    scratch_write_text("throw.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n");
+    scratch_write_text("delete.script", "1 mouse down left 120 120\n1 mouse up left 120 120\n5 mouse down middle 120 120\n"
                                 "5 mouse up middle 120 120\n");
-    const char *a = path_of("throw.bmp"), *b = path_of("delete.bmp");
-    play_ok((const char *[]){"levels/lab.ntl", "--script", path_of("throw.script"), "--frames", "8", LAB_VIEW, "--screenshot", a, NULL});
-    play_ok((const char *[]){"levels/lab.ntl", "--script", path_of("delete.script"), "--frames", "8", LAB_VIEW, "--screenshot", b, NULL});
+    const char *a = scratch_path("throw.bmp"), *b = scratch_path("delete.bmp");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("throw.script"), "--frames", "8", LAB_VIEW, "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("delete.script"), "--frames", "8", LAB_VIEW, "--screenshot", b, NULL});
     image ia = load_bmp(a), ib = load_bmp(b);
     expect_pixel(&ia, 120, 120, PG_BODY_FILL(PG_ENGINE_AWAKE), "the thrown ball");
     expect_pixel(&ia, 120 + 2 * 6, 120, PG_BODY_FILL(PG_ENGINE_AWAKE), "inside the ball (radius 0.3 cell)");
@@ -782,10 +722,10 @@ static void test_throw_and_delete(void **state)
 static void test_friction_model_switch(void **state)
 {
     (void)state;
-    write_text("model.script", "1 press F\n2 press F2\n");
-    const char *saved = path_of("coulomb.ntl");
+    scratch_write_text("model.script", "1 press F\n2 press F2\n");
+    const char *saved = scratch_path("coulomb.ntl");
     run_result r;
-    run_play(&r, (const char *[]){"levels/slopes.ntl", "--script", path_of("model.script"), "--frames", "3", "--save", saved, NULL});
+    run_play(&r, (const char *[]){"levels/slopes.ntl", "--script", scratch_path("model.script"), "--frames", "3", "--save", saved, NULL});
     expect_status(&r, 0);
     run_free(&r);
     nt_level *lv = load_level(saved);
@@ -797,7 +737,7 @@ static void test_friction_model_switch(void **state)
 static void test_png_and_determinism(void **state)
 {
     (void)state;
-    const char *bmp = path_of("n.bmp"), *bmp2 = path_of("n2.bmp"), *png = path_of("n.png");
+    const char *bmp = scratch_path("n.bmp"), *bmp2 = scratch_path("n2.bmp"), *png = scratch_path("n.png");
     const char *args = "edges,velocities,split,contacts,rays,grid,tiles,bodies,projections,sleep,sensors,stats";
     play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--frames", "120", "--gizmos", args, "--mouse", "400", "200",
                              "--screenshot", bmp, NULL});
@@ -809,7 +749,7 @@ static void test_png_and_determinism(void **state)
     assert_int_equal(a.w, b.w);
     assert_int_equal(a.h, b.h);
     size_t png_size;
-    free(read_bytes(png, &png_size));
+    free(scratch_read(png, &png_size));
     assert_true(png_size < (size_t)a.w * (size_t)a.h); /* compressed: under a byte per pixel */
     /* The HUD's fps figure is wall-clock: compare everything below the HUD panel. */
     for (int y = 80; y < a.h; y++)
@@ -826,7 +766,7 @@ static void test_png_and_determinism(void **state)
 static void test_offscreen_driver(void **state)
 {
     (void)state;
-    const char *a = path_of("dummy.bmp"), *b = path_of("offscreen.bmp");
+    const char *a = scratch_path("dummy.bmp"), *b = scratch_path("offscreen.bmp");
     play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "30", LAB_VIEW, "--screenshot", a, NULL});
     run_result r;
     g_child_driver = "offscreen";
@@ -839,7 +779,7 @@ static void test_offscreen_driver(void **state)
     expect_status(&r, 0);
     run_free(&r);
     size_t na, nb;
-    unsigned char *da = read_bytes(a, &na), *db = read_bytes(b, &nb);
+    unsigned char *da = (unsigned char *)scratch_read(a, &na), *db = (unsigned char *)scratch_read(b, &nb);
     assert_int_equal(na, nb);
     assert_memory_equal(da, db, na);
     free(da);
@@ -850,7 +790,7 @@ static void test_offscreen_driver(void **state)
 static void test_image_stats(void **state)
 {
     (void)state;
-    const char *flat = path_of("flat.bmp"), *shot = path_of("stats.bmp");
+    const char *flat = scratch_path("flat.bmp"), *shot = scratch_path("stats.bmp");
     write_flat_bmp(flat, 64, 48, 0x102030u);
     run_result r;
     run_play(&r, (const char *[]){"--image-stats", flat, NULL});
@@ -862,7 +802,7 @@ static void test_image_stats(void **state)
     expect_status(&r, 0);
     expect_in(r.out, "not blank");
     run_free(&r);
-    run_play(&r, (const char *[]){"--image-stats", path_of("missing.bmp"), NULL});
+    run_play(&r, (const char *[]){"--image-stats", scratch_path("missing.bmp"), NULL});
     expect_status(&r, 1);
     run_free(&r);
 }
@@ -907,15 +847,15 @@ static void test_errors(void **state)
         run_free(&r);
     }
     /* A malformed level: the parser's FILE:LINE:COL message. */
-    write_text("bad.ntl", "ntile-level 1\nsize 4 2\ntiles\n|####|\n|#z.#|\n");
+    scratch_write_text("bad.ntl", "ntile-level 1\nsize 4 2\ntiles\n|####|\n|#z.#|\n");
     run_result r;
-    run_play(&r, (const char *[]){path_of("bad.ntl"), "--frames", "1", NULL});
+    run_play(&r, (const char *[]){scratch_path("bad.ntl"), "--frames", "1", NULL});
     expect_status(&r, 1);
     expect_in(r.err, "bad.ntl:5:3: unknown tile code 'z'");
     run_free(&r);
     /* A malformed script: its line. */
-    write_text("bad.script", "1 press Right\n2 press NoSuchKey\n");
-    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", path_of("bad.script"), "--frames", "1", NULL});
+    scratch_write_text("bad.script", "1 press Right\n2 press NoSuchKey\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("bad.script"), "--frames", "1", NULL});
     expect_status(&r, 2);
     expect_in(r.err, "bad.script:2: unknown key name");
     run_free(&r);

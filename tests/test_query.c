@@ -26,105 +26,29 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "child.h"
+#include "scratch.h"
 #include "ntile/ntile.h"
 
 #define TOL 2e-5
 
-/* ---------- temporary files ---------- */
-
-static char g_dir[4096];
-static char *g_files[256];
-static size_t g_nfiles;
-
-static void remove_temp_files(void)
-{
-    for (size_t i = 0; i < g_nfiles; i++) unlink(g_files[i]);
-    rmdir(g_dir);
-}
-
-/* A test run stopped by a signal (e.g. a timeout) still removes its files. */
-static void on_signal(int sig)
-{
-    remove_temp_files();
-    signal(sig, SIG_DFL);
-    raise(sig);
-}
+/* ---------- temporary files (scratch.h) ---------- */
 
 static int group_setup(void **state)
 {
     (void)state;
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-query-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_dir)) return -1;
-    signal(SIGTERM, on_signal);
-    signal(SIGINT, on_signal);
-    signal(SIGHUP, on_signal);
-    return 0;
+    return scratch_create("query");
 }
 
 static int group_teardown(void **state)
 {
     (void)state;
-    signal(SIGTERM, SIG_DFL);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGHUP, SIG_DFL);
-    remove_temp_files();
-    for (size_t i = 0; i < g_nfiles; i++) free(g_files[i]);
-    g_nfiles = 0;
+    scratch_remove();
     return 0;
 }
 
-/* A new empty file in the test directory; returns its path and an open descriptor. */
-static const char *new_file(int *fd)
-{
-    assert_true(g_nfiles < sizeof g_files / sizeof g_files[0]);
-    char *path = malloc(strlen(g_dir) + 16);
-    assert_non_null(path);
-    sprintf(path, "%s/f-XXXXXX", g_dir);
-    *fd = mkstemp(path);
-    assert_true(*fd >= 0);
-    g_files[g_nfiles++] = path;
-    return path;
-}
-
-static const char *write_bytes(const void *data, size_t len)
-{
-    int fd;
-    const char *path = new_file(&fd);
-    const char *p = data;
-    while (len > 0) {
-        ssize_t n = write(fd, p, len);
-        assert_true(n > 0);
-        p += n;
-        len -= (size_t)n;
-    }
-    close(fd);
-    return path;
-}
-
-static const char *write_text(const char *text) { return write_bytes(text, strlen(text)); }
-
-static char *read_all(int fd, size_t *len)
-{
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap + 1);
-    assert_non_null(buf);
-    assert_int_equal(lseek(fd, 0, SEEK_SET), 0);
-    for (;;) {
-        if (n == cap) {
-            cap *= 2;
-            buf = realloc(buf, cap + 1);
-            assert_non_null(buf);
-        }
-        ssize_t k = read(fd, buf + n, cap - n);
-        assert_true(k >= 0);
-        if (k == 0) break;
-        n += (size_t)k;
-    }
-    buf[n] = '\0';
-    *len = n;
-    return buf;
-}
+static const char *write_bytes(const void *data, size_t len) { return scratch_new(data, len); }
+static const char *write_text(const char *text) { return scratch_new(text, strlen(text)); }
 
 /* ---------- running the CLI ---------- */
 
@@ -150,47 +74,17 @@ static const char *ntile_path(void)
 }
 
 /* Run `ntile ARGS...` (NULL-terminated) with standard input from stdin_path (or
- * /dev/null), capturing both outputs. */
+ * /dev/null), capturing both outputs; the CLI must not crash, report a sanitizer
+ * error or exit above 2. */
 static void run_cli(run_result *r, const char *stdin_path, const char *const *args)
 {
-    const char *exe = ntile_path();
-    const char *argv[32];
-    size_t n = 0;
-    argv[n++] = exe;
-    for (; args[n - 1]; n++) {
-        assert_true(n < 31);
-        argv[n] = args[n - 1];
-    }
-    argv[n] = NULL;
-    /* The output files are read through their descriptors: their names can go now. */
-    int out_fd, err_fd;
-    unlink(new_file(&out_fd));
-    unlink(new_file(&err_fd));
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        int in_fd = open(stdin_path ? stdin_path : "/dev/null", O_RDONLY);
-        if (in_fd < 0 || dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(125);
-        /* Under the sanitizers, a report must not pass for the CLI's own status 1. */
-        setenv("ASAN_OPTIONS", "exitcode=99", 0);
-        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
-        execv(exe, (char *const *)argv);
-        _exit(126);
-    }
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0) assert_int_equal(errno, EINTR);
-    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-    assert_int_not_equal(r->status, 125); /* could not redirect */
-    assert_int_not_equal(r->status, 126); /* could not run NTILE */
-    if (r->status >= 128) fail_msg("the CLI died from signal %d", r->status - 128); /* never crash */
-    r->out = read_all(out_fd, &r->out_len);
-    r->err = read_all(err_fd, &r->err_len);
-    close(out_fd);
-    close(err_fd);
-    if (strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
-        fail_msg("sanitizer report from the CLI:\n%s", r->err);
-    if (r->status > 2) fail_msg("unexpected exit status %d (stderr: %s)", r->status, r->err);
+    child_result c;
+    child_run_input(&c, scratch_dir(), ntile_path(), args, stdin_path, NULL, NULL, 3);
+    r->status = c.status;
+    r->out = c.out;
+    r->out_len = c.out_len;
+    r->err = c.err;
+    r->err_len = c.err_len;
     /* Split the output: every line ends with '\n', and none holds a NUL. */
     assert_int_equal(strlen(r->out), r->out_len);
     assert_true(r->out_len == 0 || r->out[r->out_len - 1] == '\n');
@@ -576,7 +470,7 @@ static void test_usage_errors(void **state)
     run_result r;
     const char *ok_file = write_text("tile FULL aabb 0.5 0.1 0.25 0.25\n");
     char missing[4200];
-    snprintf(missing, sizeof missing, "%s/does-not-exist.query", g_dir);
+    snprintf(missing, sizeof missing, "%s/does-not-exist.query", scratch_dir());
 
     const char *a1[] = {"query", ok_file, ok_file, NULL};
     run_cli(&r, NULL, a1);
@@ -591,7 +485,7 @@ static void test_usage_errors(void **state)
     assert_non_null(strstr(r.err, "does-not-exist"));
     run_free(&r);
 
-    const char *a3[] = {"query", g_dir, NULL}; /* a directory cannot be read */
+    const char *a3[] = {"query", scratch_dir(), NULL}; /* a directory cannot be read */
     run_cli(&r, NULL, a3);
     assert_int_equal(r.status, 2);
     assert_true(r.err_len > 0);

@@ -21,75 +21,22 @@
 #include <unistd.h>
 
 #include "child.h"
+#include "scratch.h"
 #include "ntile/ntile.h"
 
-/* ---------- temporary files ---------- */
-
-static char g_dir[4096];
+/* ---------- temporary files (scratch.h) ---------- */
 
 static int group_setup(void **state)
 {
     (void)state;
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-run-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    return mkdtemp(g_dir) ? 0 : -1;
+    return scratch_create("run");
 }
 
 static int group_teardown(void **state)
 {
     (void)state;
-    DIR *d = opendir(g_dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)) != NULL) {
-            if (e->d_name[0] == '.') continue;
-            char p[4400];
-            snprintf(p, sizeof p, "%s/%s", g_dir, e->d_name);
-            unlink(p);
-        }
-        closedir(d);
-    }
-    rmdir(g_dir);
+    scratch_remove();
     return 0;
-}
-
-static const char *path_of(const char *name)
-{
-    static char buf[8][4400];
-    static int k;
-    char *p = buf[k++ % 8];
-    snprintf(p, 4400, "%s/%s", g_dir, name);
-    return p;
-}
-
-static void write_file(const char *name, const char *text)
-{
-    FILE *f = fopen(path_of(name), "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-    assert_int_equal(fclose(f), 0);
-}
-
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    assert_non_null(buf);
-    for (;;) {
-        if (n + 1 >= cap) {
-            cap *= 2;
-            buf = realloc(buf, cap);
-            assert_non_null(buf);
-        }
-        size_t k = fread(buf + n, 1, cap - n - 1, f);
-        if (k == 0) break;
-        n += k;
-    }
-    fclose(f);
-    buf[n] = '\0';
-    return buf;
 }
 
 /* ---------- running the CLI ---------- */
@@ -104,7 +51,7 @@ static void run_cli(run_result *r, const char *const *args)
         print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
         skip();
     }
-    child_run(r, g_dir, exe, args, NULL, NULL, 125);
+    child_run(r, scratch_dir(), exe, args, NULL, NULL, 125);
 }
 
 static void run_free(run_result *r) { child_free(r); }
@@ -176,9 +123,9 @@ static const char replay_ok[] = "ntile-replay 1\n# reaches the door\nname walk\n
 static void test_output_format(void **state)
 {
     (void)state;
-    write_file("lvl.ntl", level_text);
-    write_file("ok.ntr", replay_ok);
-    const char *args[] = {"run", path_of("ok.ntr"), NULL};
+    scratch_write_text("lvl.ntl", level_text);
+    scratch_write_text("ok.ntr", replay_ok);
+    const char *args[] = {"run", scratch_path("ok.ntr"), NULL};
     run_result r;
     run_cli(&r, args);
     expect_status(&r, 0);
@@ -199,20 +146,20 @@ static void test_output_format(void **state)
 static void test_failures_are_reported(void **state)
 {
     (void)state;
-    write_file("lvl.ntl", level_text);
-    write_file("bad.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 60\ninput 60L\nexpect complete by 60\n");
-    write_file("noname.ntr", "ntile-replay 1\nlevel missing.ntl\nticks 10\n");
-    write_file("syntax.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 10\nexpect happy at 3\n");
-    write_file("badlevel.ntr", "ntile-replay 1\nlevel broken.ntl\nticks 10\n");
-    write_file("broken.ntl", "ntile-level 1\nsize 3 1\ntiles\n|#x#|\n");
-    write_file("ok.ntr", replay_ok);
+    scratch_write_text("lvl.ntl", level_text);
+    scratch_write_text("bad.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 60\ninput 60L\nexpect complete by 60\n");
+    scratch_write_text("noname.ntr", "ntile-replay 1\nlevel missing.ntl\nticks 10\n");
+    scratch_write_text("syntax.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 10\nexpect happy at 3\n");
+    scratch_write_text("badlevel.ntr", "ntile-replay 1\nlevel broken.ntl\nticks 10\n");
+    scratch_write_text("broken.ntl", "ntile-level 1\nsize 3 1\ntiles\n|#x#|\n");
+    scratch_write_text("ok.ntr", replay_ok);
     const char *args[] = {"run",
-                          path_of("bad.ntr"),
-                          path_of("noname.ntr"),
-                          path_of("syntax.ntr"),
-                          path_of("badlevel.ntr"),
-                          path_of("nothere.ntr"),
-                          path_of("ok.ntr"),
+                          scratch_path("bad.ntr"),
+                          scratch_path("noname.ntr"),
+                          scratch_path("syntax.ntr"),
+                          scratch_path("badlevel.ntr"),
+                          scratch_path("nothere.ntr"),
+                          scratch_path("ok.ntr"),
                           NULL};
     run_result r;
     run_cli(&r, args);
@@ -220,18 +167,18 @@ static void test_failures_are_reported(void **state)
     expect_in(r.out, "not ok bad ");
     expect_in(r.out, "\n    line 5: expect complete by 60: never true in ticks 0..60 (at tick 60: not complete)\n");
     char want[5000];
-    snprintf(want, sizeof want, "\n    cannot open '%s/missing.ntl': No such file or directory\n", g_dir);
+    snprintf(want, sizeof want, "\n    cannot open '%s/missing.ntl': No such file or directory\n", scratch_dir());
     expect_in(r.out, want);
     snprintf(want, sizeof want,
              "\n    %s/syntax.ntr:4:8: unknown fact 'happy' (expected complete, alive, inside, no-body-in-solid, score, "
              "bodies, spawned, energy-ratio or momentum-drift)\n",
-             g_dir);
+             scratch_dir());
     expect_in(r.out, want);
     snprintf(want, sizeof want,
              "\n    %s/broken.ntl:4:3: unknown tile code 'x' (expected '.', '#' or an N code '2'..'Q', see the legend)\n",
-             g_dir);
+             scratch_dir());
     expect_in(r.out, want);
-    snprintf(want, sizeof want, "\n    cannot open '%s/nothere.ntr': No such file or directory\n", g_dir);
+    snprintf(want, sizeof want, "\n    cannot open '%s/nothere.ntr': No such file or directory\n", scratch_dir());
     expect_in(r.out, want);
     expect_in(r.out, "\nok     walk ");
     expect_in(r.out, "\n1 passed, 5 failed\n");
@@ -245,13 +192,13 @@ static const char *scalar(void) { return NT_REAL_IS_DOUBLE ? "double" : "float";
 static void test_record_hashes(void **state)
 {
     (void)state;
-    write_file("lvl.ntl", level_text);
+    scratch_write_text("lvl.ntl", level_text);
     /* A line for the other scalar build must survive recording untouched. */
     char text[1024];
     snprintf(text, sizeof text, "%shash %s 60 0x0123456789abcdef\n", replay_ok, NT_REAL_IS_DOUBLE ? "float" : "double");
-    write_file("rec.ntr", text);
-    const char *rec[] = {"run", "--record-hashes", path_of("rec.ntr"), NULL};
-    const char *run[] = {"run", path_of("rec.ntr"), NULL};
+    scratch_write_text("rec.ntr", text);
+    const char *rec[] = {"run", "--record-hashes", scratch_path("rec.ntr"), NULL};
+    const char *run[] = {"run", scratch_path("rec.ntr"), NULL};
     run_result r;
     run_cli(&r, rec);
     expect_status(&r, 0);
@@ -261,7 +208,7 @@ static void test_record_hashes(void **state)
     snprintf(want, sizeof want, "\n    %s trace: added (60 ticks)\n", scalar());
     expect_in(r.out, want);
     run_free(&r);
-    char *after = read_file(path_of("rec.ntr"));
+    char *after = scratch_read(scratch_path("rec.ntr"), NULL);
     expect_in(after, "# reaches the door\n");     /* comments kept */
     expect_in(after, "expect score >= 2 at 60\n"); /* facts kept */
     snprintf(want, sizeof want, "hash %s 60 0x0123456789abcdef\n", NT_REAL_IS_DOUBLE ? "float" : "double");
@@ -277,7 +224,7 @@ static void test_record_hashes(void **state)
     snprintf(want, sizeof want, "\n    %s hash at tick 60: unchanged\n    %s trace: unchanged (60 ticks)\n", scalar(), scalar());
     expect_in(r.out, want);
     run_free(&r);
-    char *again = read_file(path_of("rec.ntr"));
+    char *again = scratch_read(scratch_path("rec.ntr"), NULL);
     assert_string_equal(again, after);
     free(again);
     /* A change (the coin is worth 3) shows up when the coin is taken; the facts still hold. */
@@ -285,7 +232,7 @@ static void test_record_hashes(void **state)
     snprintf(changed, sizeof changed, "%s", level_text);
     *strstr(changed, "score 2") = '\0';
     strcat(changed, "score 3\n");
-    write_file("lvl.ntl", changed);
+    scratch_write_text("lvl.ntl", changed);
     run_cli(&r, run);
     expect_status(&r, 1);
     snprintf(want, sizeof want, ": %s hash at tick 60: expected 0x", scalar());
@@ -308,9 +255,9 @@ static void test_record_hashes(void **state)
     expect_status(&r, 0);
     run_free(&r);
     /* A fact that fails is reported while recording, and the status says so. */
-    write_file("lvl.ntl", level_text);
-    write_file("rec2.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 20\nexpect complete by 20\n");
-    const char *rec2[] = {"run", "--record-hashes", path_of("rec2.ntr"), NULL};
+    scratch_write_text("lvl.ntl", level_text);
+    scratch_write_text("rec2.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 20\nexpect complete by 20\n");
+    const char *rec2[] = {"run", "--record-hashes", scratch_path("rec2.ntr"), NULL};
     run_cli(&r, rec2);
     expect_status(&r, 1);
     expect_in(r.out, "not ok rec2 ");
@@ -324,8 +271,8 @@ static void test_record_hashes(void **state)
 static void test_level_mode(void **state)
 {
     (void)state;
-    write_file("lvl.ntl", level_text);
-    const char *args[] = {"run", "--level", path_of("lvl.ntl"), "--ticks", "50", "--input", "30R 20.", NULL};
+    scratch_write_text("lvl.ntl", level_text);
+    const char *args[] = {"run", "--level", scratch_path("lvl.ntl"), "--ticks", "50", "--input", "30R 20.", NULL};
     run_result r;
     run_cli(&r, args);
     expect_status(&r, 0);
@@ -334,18 +281,18 @@ static void test_level_mode(void **state)
     expect_in(r.out, "\ntick 50  bodies 1  score 2  spawned 0  complete no  player alive at ");
     run_free(&r);
     /* A replay of the same inputs records the same hash. */
-    write_file("same.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 50\ninput 30R 20.\n");
-    const char *rec[] = {"run", "--record-hashes", path_of("same.ntr"), NULL};
+    scratch_write_text("same.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 50\ninput 30R 20.\n");
+    const char *rec[] = {"run", "--record-hashes", scratch_path("same.ntr"), NULL};
     run_cli(&r, rec);
     expect_status(&r, 0);
     run_free(&r);
-    char *text = read_file(path_of("same.ntr"));
+    char *text = scratch_read(scratch_path("same.ntr"), NULL);
     char want[128];
     snprintf(want, sizeof want, "hash %s 50 0x%016llx\n", scalar(), h);
     expect_in(text, want);
     free(text);
     /* No --input: no keys. */
-    const char *idle[] = {"run", "--level", path_of("lvl.ntl"), "--ticks", "5", "--print-every", "5", NULL};
+    const char *idle[] = {"run", "--level", scratch_path("lvl.ntl"), "--ticks", "5", "--print-every", "5", NULL};
     run_cli(&r, idle);
     expect_status(&r, 0);
     expect_in(r.out, "  . tick 5  bodies 2  score 0");
@@ -355,7 +302,7 @@ static void test_level_mode(void **state)
 static void test_usage_errors(void **state)
 {
     (void)state;
-    write_file("lvl.ntl", level_text);
+    scratch_write_text("lvl.ntl", level_text);
     struct {
         const char *args[8];
         int status;
@@ -368,12 +315,12 @@ static void test_usage_errors(void **state)
         {{"run", "--level", "x", "--ticks", "0", NULL}, 2, "ntile run: --ticks needs a number of ticks (1..100000000), got '0'\n"},
         {{"run", "--ticks", "5", "a.ntr", NULL}, 2,
          "ntile run: --input, --ticks, --seed, --dt, --friction-model and --print-every go with --level\n"},
-        {{"run", "--level", path_of("lvl.ntl"), "--ticks", "5", "--input", "3Q", NULL}, 2,
+        {{"run", "--level", scratch_path("lvl.ntl"), "--ticks", "5", "--input", "3Q", NULL}, 2,
          "ntile run: --input:1:2: unknown key 'Q' (keys are L R U D J A; '.' alone means none)\n"},
-        {{"run", "--level", path_of("nope.ntl"), "--ticks", "5", NULL}, 2, "ntile run: cannot open '"},
+        {{"run", "--level", scratch_path("nope.ntl"), "--ticks", "5", NULL}, 2, "ntile run: cannot open '"},
         {{"convert", "n15", "x", NULL}, 2, "ntile convert: unknown format 'n15' (this ntile converts n14 and tiled)\n"},
         {{"convert", "n14", NULL}, 2, "ntile convert: missing the input FILE\n"},
-        {{"convert", "n14", path_of("nope.txt"), NULL}, 2, "ntile convert: cannot open '"},
+        {{"convert", "n14", scratch_path("nope.txt"), NULL}, 2, "ntile convert: cannot open '"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         run_result r;
@@ -403,18 +350,18 @@ static void test_convert(void **state)
     n14_line(a, sizeof a, "first", 3, "5^60,100!3^200,200");
     n14_line(b, sizeof b, "second", 9, "0^120,120");
     snprintf(both, sizeof both, "%s%s", a, b);
-    write_file("levels.txt", both);
-    const char *conv[] = {"convert", "n14", path_of("levels.txt"), "-o", path_of("first.ntl"), NULL};
+    scratch_write_text("levels.txt", both);
+    const char *conv[] = {"convert", "n14", scratch_path("levels.txt"), "-o", scratch_path("first.ntl"), NULL};
     run_result r;
     run_cli(&r, conv);
     expect_status(&r, 0);
     char want[5000];
-    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 is not supported; skipped\n", g_dir);
+    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 is not supported; skipped\n", scratch_dir());
     expect_in(r.err, want);
     snprintf(want, sizeof want, "holds 2 levels; converted the first (choose one with --index N)\n");
     expect_in(r.err, want);
     run_free(&r);
-    char *text = read_file(path_of("first.ntl"));
+    char *text = scratch_read(scratch_path("first.ntl"), NULL);
     nt_level *lv = NULL;
     assert_int_equal(nt_level_parse("first.ntl", text, strlen(text), &lv, NULL), NT_OK);
     assert_string_equal(lv->title, "first");
@@ -423,28 +370,28 @@ static void test_convert(void **state)
     nt_level_destroy(lv);
     free(text);
     /* --index 2 to standard output */
-    const char *second[] = {"convert", "n14", path_of("levels.txt"), "--index", "2", NULL};
+    const char *second[] = {"convert", "n14", scratch_path("levels.txt"), "--index", "2", NULL};
     run_cli(&r, second);
     expect_status(&r, 0);
     expect_in(r.out, "title \"second\"\n");
     expect_in(r.out, "body gold1 static circle 6 at 120 120 sensor score 1\n");
     run_free(&r);
-    const char *third[] = {"convert", "n14", path_of("levels.txt"), "--index", "3", NULL};
+    const char *third[] = {"convert", "n14", scratch_path("levels.txt"), "--index", "3", NULL};
     run_cli(&r, third);
     expect_status(&r, 1);
-    snprintf(want, sizeof want, "%s/levels.txt:3:1: level 3 asked for, but the text holds 2 levels\n", g_dir);
+    snprintf(want, sizeof want, "%s/levels.txt:3:1: level 3 asked for, but the text holds 2 levels\n", scratch_dir());
     assert_string_equal(r.err, want);
     run_free(&r);
-    const char *list[] = {"convert", "n14", path_of("levels.txt"), "--list", NULL};
+    const char *list[] = {"convert", "n14", scratch_path("levels.txt"), "--list", NULL};
     run_cli(&r, list);
     expect_status(&r, 0);
     assert_string_equal(r.out, "1\tfirst\n2\tsecond\n");
     run_free(&r);
-    write_file("junk.txt", "this is not N\n");
-    const char *junk[] = {"convert", "n14", path_of("junk.txt"), NULL};
+    scratch_write_text("junk.txt", "this is not N\n");
+    const char *junk[] = {"convert", "n14", scratch_path("junk.txt"), NULL};
     run_cli(&r, junk);
     expect_status(&r, 1);
-    snprintf(want, sizeof want, "%s/junk.txt:1:1: an N level starts with '$' ($NAME#AUTHOR##TILES|OBJECTS#)\n", g_dir);
+    snprintf(want, sizeof want, "%s/junk.txt:1:1: an N level starts with '$' ($NAME#AUTHOR##TILES|OBJECTS#)\n", scratch_dir());
     assert_string_equal(r.err, want);
     assert_string_equal(r.out, "");
     run_free(&r);

@@ -24,67 +24,26 @@
 #include <zlib.h>
 
 #include "child.h"
+#include "scratch.h"
 #include "failalloc.h"
 #include "ntile/ntile.h"
 #include "tiled/tiled.h"
 
-/* ---------------------------------------------------------------- files */
-
-static char g_dir[4096];
+/* ---------- temporary files (scratch.h) ---------- */
 
 static int group_setup(void **state)
 {
     (void)state;
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-tiled-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_dir)) return -1;
-    char sub[4200];
-    snprintf(sub, sizeof sub, "%s/ts", g_dir);
-    return mkdir(sub, 0700);
-}
-
-static void remove_tree(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-        char p[4400];
-        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
-        struct stat st;
-        if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode)) remove_tree(p);
-        else unlink(p);
-    }
-    closedir(d);
-    rmdir(dir);
+    if (scratch_create("tiled") != 0) return -1;
+    return mkdir(scratch_path("ts"), 0700); /* external tilesets live in a subdirectory */
 }
 
 static int group_teardown(void **state)
 {
     (void)state;
-    remove_tree(g_dir);
+    scratch_remove();
     return 0;
 }
-
-static const char *path_of(const char *name)
-{
-    static char buf[8][4400];
-    static int k;
-    char *p = buf[k++ % 8];
-    snprintf(p, 4400, "%s/%s", g_dir, name);
-    return p;
-}
-
-static void write_bytes(const char *name, const void *data, size_t n)
-{
-    FILE *f = fopen(path_of(name), "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-}
-
-static void write_file(const char *name, const char *text) { write_bytes(name, text, strlen(text)); }
 
 /* ---------------------------------------------------------------- strings */
 
@@ -404,7 +363,7 @@ static char *emit(const mspec *m, int fmt, const char *file)
             tileset_json(&e, t);
             sb_printf(&e, "}\n");
         }
-        write_file(t->external, e.s);
+        scratch_write_text(t->external, e.s);
         free(e.s);
     }
     if (fmt == F_TMX) {
@@ -492,7 +451,7 @@ static char *emit(const mspec *m, int fmt, const char *file)
         }
         sb_printf(&b, "]\n}\n");
     }
-    write_file(file, b.s);
+    scratch_write_text(file, b.s);
     return b.s;
 }
 
@@ -510,34 +469,11 @@ static void on_warning(const char *message, void *ctx)
     w->count++;
 }
 
-static char *slurp_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    sbuf b = {NULL, 0, 0};
-    sb_printf(&b, "%s", "");
-    char chunk[4096];
-    size_t k;
-    while ((k = fread(chunk, 1, sizeof chunk, f)) > 0) {
-        if (b.n + k + 1 > b.cap) {
-            b.cap = (b.n + k + 1) * 2;
-            b.s = realloc(b.s, b.cap);
-            assert_non_null(b.s);
-        }
-        memcpy(b.s + b.n, chunk, k);
-        b.n += k;
-        b.s[b.n] = '\0';
-    }
-    fclose(f);
-    *len = b.n;
-    return b.s;
-}
-
 static nt_status import_file(const char *name, nt_level **lv, nt_text_error *e, warnings *w)
 {
     size_t len;
-    char *text = slurp_file(path_of(name), &len);
-    nt_status s = tiled_import(path_of(name), text, len, lv, e, w ? on_warning : NULL, w);
+    char *text = scratch_read(scratch_path(name), &len);
+    nt_status s = tiled_import(scratch_path(name), text, len, lv, e, w ? on_warning : NULL, w);
     free(text);
     return s;
 }
@@ -558,8 +494,8 @@ static nt_level *import_ok(const mspec *m, int fmt, warnings *w)
 /* The message after the directory of the test files ("m.tmx:3:4: ..."). */
 static const char *short_msg(const nt_text_error *e)
 {
-    size_t n = strlen(g_dir);
-    return strncmp(e->message, g_dir, n) == 0 && e->message[n] == '/' ? e->message + n + 1 : e->message;
+    size_t n = strlen(scratch_dir());
+    return strncmp(e->message, scratch_dir(), n) == 0 && e->message[n] == '/' ? e->message + n + 1 : e->message;
 }
 
 /* Import the file and expect an error whose message (after the directory) is `want`. */
@@ -1070,9 +1006,9 @@ static void test_errors_in_specs(void **state)
         t.layers[0].props[0] = (pspec){0};
         t.sets[0].external = "ts/gone.tsx";
         free(emit(&t, fmt, f));
-        unlink(path_of("ts/gone.tsx"));
+        unlink(scratch_path("ts/gone.tsx"));
         assert_int_equal(import_file(f, &lv, &e, NULL), NT_ERR_PARSE);
-        snprintf(want, sizeof want, "tileset 1: cannot read \"ts/gone.tsx\" (%s): No such file or directory", path_of("ts/gone.tsx"));
+        snprintf(want, sizeof want, "tileset 1: cannot read \"ts/gone.tsx\" (%s): No such file or directory", scratch_path("ts/gone.tsx"));
         expect_in(e.message, want);
         assert_null(lv);
     }
@@ -1154,7 +1090,7 @@ static void test_object_errors(void **state)
 static void test_malformed_files(void **state)
 {
     (void)state;
-    write_file("bad.tmj", "{\n \"width\": 2,\n \"height\": ,\n}\n");
+    scratch_write_text("bad.tmj", "{\n \"width\": 2,\n \"height\": ,\n}\n");
     nt_level *lv = NULL;
     nt_text_error e;
     assert_int_equal(import_file("bad.tmj", &lv, &e, NULL), NT_ERR_PARSE);
@@ -1162,52 +1098,52 @@ static void test_malformed_files(void **state)
     assert_true(e.column >= 11 && e.column <= 13);
     expect_in(short_msg(&e), "bad.tmj:3:");
     expect_in(e.message, ": bad JSON: ");
-    write_file("bad.tmx", "<?xml version=\"1.0\"?>\n<map width=\"2\" height=\"2\">\n  <layer name=\"a\">\n  </lay>\n</map>\n");
+    scratch_write_text("bad.tmx", "<?xml version=\"1.0\"?>\n<map width=\"2\" height=\"2\">\n  <layer name=\"a\">\n  </lay>\n</map>\n");
     expect_error_file("bad.tmx", "bad.tmx:4:5: bad XML: mismatched tag");
-    write_file("empty.tmx", "");
+    scratch_write_text("empty.tmx", "");
     assert_int_equal(import_file("empty.tmx", &lv, &e, NULL), NT_ERR_PARSE);
     expect_in(e.message, "empty.tmx:1:1: bad XML: ");
-    write_file("notmap.tmx", "<?xml version=\"1.0\"?>\n<tileset name=\"x\"/>\n");
+    scratch_write_text("notmap.tmx", "<?xml version=\"1.0\"?>\n<tileset name=\"x\"/>\n");
     expect_error_file("notmap.tmx", "notmap.tmx:2:1: map: not a Tiled map (the document element is <tileset>, expected <map>)");
-    write_file("array.tmj", "[1, 2]");
+    scratch_write_text("array.tmj", "[1, 2]");
     expect_error_file("array.tmj", "array.tmj: map: the file holds an array, not a Tiled map object");
-    write_file("nowidth.tmj", "{\"type\":\"map\", \"height\":2, \"tilewidth\":8, \"tileheight\":8}");
+    scratch_write_text("nowidth.tmj", "{\"type\":\"map\", \"height\":2, \"tilewidth\":8, \"tileheight\":8}");
     expect_error_file("nowidth.tmj", "nowidth.tmj: map: missing \"width\"");
-    write_file("inf.tmx", "<map orientation=\"orthogonal\" width=\"2\" height=\"2\" tilewidth=\"8\" tileheight=\"8\" infinite=\"1\"/>");
+    scratch_write_text("inf.tmx", "<map orientation=\"orthogonal\" width=\"2\" height=\"2\" tilewidth=\"8\" tileheight=\"8\" infinite=\"1\"/>");
     expect_error_file("inf.tmx", "inf.tmx:1:1: map: infinite maps are not supported (turn off Map > Map Properties > Infinite)");
-    write_file("big.tmj", "{\"width\":5000, \"height\":2, \"tilewidth\":8, \"tileheight\":8}");
+    scratch_write_text("big.tmj", "{\"width\":5000, \"height\":2, \"tilewidth\":8, \"tileheight\":8}");
     expect_error_file("big.tmj", "big.tmj: map: 5000 x 2 tiles; ntile maps have 1..4096 tiles a side");
     /* Data: a bad base64 character (its line and column), wrong lengths, bad zlib. */
     const char *head = "<map orientation=\"orthogonal\" width=\"2\" height=\"2\" tilewidth=\"8\" tileheight=\"8\">\n"
                        " <tileset firstgid=\"1\" name=\"t\" tilecount=\"4\"/>\n <layer name=\"g\" width=\"2\" height=\"2\">\n";
     char buf[2048];
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\">\n   AQAAAAAA*AAAAAAAAAAAAA==\n  </data>\n </layer>\n</map>\n", head);
-    write_file("b64.tmx", buf);
+    scratch_write_text("b64.tmx", buf);
     expect_error_file("b64.tmx", "b64.tmx:5:12: layer \"g\": bad base64 data: invalid character \"*\" at byte 13");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\">AQAAAAAAAAAAAAAA</data>\n </layer>\n</map>\n", head);
-    write_file("short.tmx", buf);
+    scratch_write_text("short.tmx", buf);
     expect_error_file("short.tmx", "short.tmx:4:3: layer \"g\": wrong data length: 12 bytes, expected 16 (2 x 2 tiles of 4 bytes)");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\">AQA</data>\n </layer>\n</map>\n", head);
-    write_file("trunc.tmx", buf);
+    scratch_write_text("trunc.tmx", buf);
     expect_error_file("trunc.tmx", "trunc.tmx:4:3: layer \"g\": wrong data length: 2 bytes, expected 16 (2 x 2 tiles of 4 bytes)");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\">AQ=A</data>\n </layer>\n</map>\n", head);
-    write_file("pad.tmx", buf);
+    scratch_write_text("pad.tmx", buf);
     expect_error_file("pad.tmx", "pad.tmx:4:30: layer \"g\": bad base64 data: data after the '=' padding: \"A\" at byte 4");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"csv\">\n1,2,\n3\n</data>\n </layer>\n</map>\n", head);
-    write_file("csv3.tmx", buf);
+    scratch_write_text("csv3.tmx", buf);
     expect_error_file("csv3.tmx", "csv3.tmx:4:3: layer \"g\": wrong data length: 3 tiles, expected 4 (2 x 2)");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"csv\">\n1,2,\n3,x4\n</data>\n </layer>\n</map>\n", head);
-    write_file("csvx.tmx", buf);
+    scratch_write_text("csvx.tmx", buf);
     expect_error_file("csvx.tmx", "csvx.tmx:6:3: layer \"g\": bad CSV data: \"x4\" is not a tile id (item 4)");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\" compression=\"zlib\">AQAAAAAAAAAAAAAA</data>\n </layer>\n</map>\n", head);
-    write_file("zbad.tmx", buf);
+    scratch_write_text("zbad.tmx", buf);
     assert_int_equal(import_file("zbad.tmx", &lv, &e, NULL), NT_ERR_PARSE);
     expect_in(e.message, "zbad.tmx:4:3: layer \"g\": bad zlib data: ");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"base64\" compression=\"lz4\">AQAAAAAAAAAAAAAA</data>\n </layer>\n</map>\n", head);
-    write_file("lz4.tmx", buf);
+    scratch_write_text("lz4.tmx", buf);
     expect_error_file("lz4.tmx", "lz4.tmx:4:3: layer \"g\": unknown compression \"lz4\" (expected zlib, gzip or none)");
     snprintf(buf, sizeof buf, "%s  <data encoding=\"hex\">00</data>\n </layer>\n</map>\n", head);
-    write_file("hex.tmx", buf);
+    scratch_write_text("hex.tmx", buf);
     expect_error_file("hex.tmx", "hex.tmx:4:3: layer \"g\": unknown encoding \"hex\" (expected csv or base64)");
     /* Compressed data of the wrong length (longer, shorter, cut off), JSON too. */
     unsigned char raw[20];
@@ -1222,7 +1158,7 @@ static void test_malformed_files(void **state)
                           "\"compression\":\"%s\", \"data\":\"", gz ? "gzip" : "zlib");
             b64(&b, z, len == 16 ? n - 3 : n);
             sb_printf(&b, "\"}]}");
-            write_file("z.tmj", b.s);
+            scratch_write_text("z.tmj", b.s);
             free(b.s);
             free(z);
             char want[200];
@@ -1233,37 +1169,37 @@ static void test_malformed_files(void **state)
         }
     }
     /* JSON arrays of the wrong length, non-integer ids. */
-    write_file("arr.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
+    scratch_write_text("arr.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
                           "\"layers\":[{\"name\":\"g\", \"type\":\"tilelayer\", \"width\":2, \"height\":2, \"data\":[0,0,0]}]}");
     expect_error_file("arr.tmj", "arr.tmj: layer \"g\": wrong data length: 3 tiles, expected 4 (2 x 2)");
-    write_file("arr2.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
+    scratch_write_text("arr2.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
                            "\"layers\":[{\"name\":\"g\", \"type\":\"tilelayer\", \"width\":2, \"height\":2, \"data\":[0,0,\"1\",0]}]}");
     expect_error_file("arr2.tmj", "arr2.tmj: layer \"g\": data item 3 is not a tile id (an integer 0..4294967295)");
-    write_file("lsize.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
+    scratch_write_text("lsize.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
                             "\"layers\":[{\"name\":\"g\", \"type\":\"tilelayer\", \"width\":3, \"height\":2, \"data\":[0,0,0,0,0,0]}]}");
     expect_error_file("lsize.tmj", "lsize.tmj: layer \"g\": 3 x 2 tiles, but the map is 2 x 2");
-    write_file("chunks.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
+    scratch_write_text("chunks.tmj", "{\"width\":2, \"height\":2, \"tilewidth\":8, \"tileheight\":8,"
                              "\"layers\":[{\"name\":\"g\", \"type\":\"tilelayer\", \"width\":2, \"height\":2, \"chunks\":[]}]}");
     expect_error_file("chunks.tmj", "chunks.tmj: layer \"g\": chunked data (an infinite map) is not supported: turn off Map > Map Properties > Infinite");
     /* A broken external tileset: its own file and position. */
-    write_file("ts/broken.tsx", "<?xml version=\"1.0\"?>\n<tileset name=\"b\" tilecount=\"2\">\n <tile id=\"zero\"/>\n</tileset>\n");
-    write_file("ts/broken.tsj", "{\"name\":\"b\",\n \"tiles\": [\n {\"id\": 0,}]}");
-    write_file("ext.tmx", "<map width=\"1\" height=\"1\" tilewidth=\"8\" tileheight=\"8\">\n <tileset firstgid=\"1\" source=\"ts/broken.tsx\"/>\n</map>\n");
+    scratch_write_text("ts/broken.tsx", "<?xml version=\"1.0\"?>\n<tileset name=\"b\" tilecount=\"2\">\n <tile id=\"zero\"/>\n</tileset>\n");
+    scratch_write_text("ts/broken.tsj", "{\"name\":\"b\",\n \"tiles\": [\n {\"id\": 0,}]}");
+    scratch_write_text("ext.tmx", "<map width=\"1\" height=\"1\" tilewidth=\"8\" tileheight=\"8\">\n <tileset firstgid=\"1\" source=\"ts/broken.tsx\"/>\n</map>\n");
     char want[800];
-    snprintf(want, sizeof want, "%s:3:2: tileset \"b\": attribute \"id\" must be an integer, not \"zero\"", path_of("ts/broken.tsx"));
+    snprintf(want, sizeof want, "%s:3:2: tileset \"b\": attribute \"id\" must be an integer, not \"zero\"", scratch_path("ts/broken.tsx"));
     assert_int_equal(import_file("ext.tmx", &lv, &e, NULL), NT_ERR_PARSE);
     assert_string_equal(e.message, want);
-    write_file("ext.tmj", "{\"width\":1, \"height\":1, \"tilewidth\":8, \"tileheight\":8, \"tilesets\":[{\"firstgid\":1, \"source\":\"ts/broken.tsj\"}]}");
+    scratch_write_text("ext.tmj", "{\"width\":1, \"height\":1, \"tilewidth\":8, \"tileheight\":8, \"tilesets\":[{\"firstgid\":1, \"source\":\"ts/broken.tsj\"}]}");
     assert_int_equal(import_file("ext.tmj", &lv, &e, NULL), NT_ERR_PARSE);
-    snprintf(want, sizeof want, "%s:3:", path_of("ts/broken.tsj"));
+    snprintf(want, sizeof want, "%s:3:", scratch_path("ts/broken.tsj"));
     expect_in(e.message, want);
     expect_in(e.message, "bad JSON");
     /* NUL bytes and binary junk never crash. */
     unsigned char junk[64];
     for (int i = 0; i < 64; i++) junk[i] = (unsigned char)(i * 37 + 11);
-    write_bytes("junk.tmx", junk, sizeof junk);
+    scratch_write("junk.tmx", junk, sizeof junk);
     assert_int_equal(import_file("junk.tmx", &lv, &e, NULL), NT_ERR_PARSE);
-    write_bytes("junk.tmj", junk, sizeof junk);
+    scratch_write("junk.tmj", junk, sizeof junk);
     assert_int_equal(import_file("junk.tmj", &lv, &e, NULL), NT_ERR_PARSE);
     assert_null(lv);
 }
@@ -1278,13 +1214,13 @@ static void test_out_of_memory(void **state)
                                    {.id = 2, .name = "r", .kind = O_RECT, .x = 20, .y = 20, .w = 4, .h = 4, .props = {{"region", NULL, "zone"}}}}};
     free(emit(&m, F_TMX, "oom.tmx"));
     size_t len;
-    char *text = slurp_file(path_of("oom.tmx"), &len);
+    char *text = scratch_read(scratch_path("oom.tmx"), &len);
     int ok = 0;
     for (long budget = 0; budget < 200 && !ok; budget++) {
         nt_level *lv = NULL;
         nt_text_error e;
         failalloc_begin(budget);
-        nt_status s = tiled_import(path_of("oom.tmx"), text, len, &lv, &e, NULL, NULL);
+        nt_status s = tiled_import(scratch_path("oom.tmx"), text, len, &lv, &e, NULL, NULL);
         if (s == NT_OK) {
             ok = 1;
             nt_level_destroy(lv);
@@ -1315,7 +1251,7 @@ static void run_cli(run_result *r, const char *const *args)
         print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
         skip();
     }
-    child_run(r, g_dir, exe, args, NULL, NULL, 125);
+    child_run(r, scratch_dir(), exe, args, NULL, NULL, 125);
 }
 
 static void test_cli(void **state)
@@ -1326,7 +1262,7 @@ static void test_cli(void **state)
                           .objs = {{.id = 1, .name = "egg", .kind = O_ELLIPSE, .x = 20, .y = 20, .w = 6, .h = 4}}};
     free(emit(&m, F_TMJ, "cli.tmj"));
     run_result r;
-    const char *a1[] = {"convert", "tiled", path_of("cli.tmj"), NULL};
+    const char *a1[] = {"convert", "tiled", scratch_path("cli.tmj"), NULL};
     run_cli(&r, a1);
     assert_int_equal(r.status, 0);
     nt_level *lv = NULL;
@@ -1337,27 +1273,27 @@ static void test_cli(void **state)
     expect_in(r.err, "cli.tmj: warning: layer \"o\": object \"egg\" (id 1): the ellipse is 6 x 4, not a circle");
     char *first = r.out;
     free(r.err);
-    const char *a2[] = {"convert", "tiled", path_of("cli.tmj"), "-o", path_of("cli.ntl"), NULL};
+    const char *a2[] = {"convert", "tiled", scratch_path("cli.tmj"), "-o", scratch_path("cli.ntl"), NULL};
     run_cli(&r, a2);
     assert_int_equal(r.status, 0);
     assert_string_equal(r.out, "");
     size_t len;
-    char *written = slurp_file(path_of("cli.ntl"), &len);
+    char *written = scratch_read(scratch_path("cli.ntl"), &len);
     assert_string_equal(written, first);
     free(written);
     free(first);
     free(r.out);
     free(r.err);
     /* Input errors: 1; usage and unreadable files: 2. */
-    write_file("cli-bad.tmx", "<map orientation=\"hexagonal\" width=\"1\" height=\"1\" tilewidth=\"8\" tileheight=\"8\"/>\n");
-    const char *a3[] = {"convert", "tiled", path_of("cli-bad.tmx"), NULL};
+    scratch_write_text("cli-bad.tmx", "<map orientation=\"hexagonal\" width=\"1\" height=\"1\" tilewidth=\"8\" tileheight=\"8\"/>\n");
+    const char *a3[] = {"convert", "tiled", scratch_path("cli-bad.tmx"), NULL};
     run_cli(&r, a3);
     assert_int_equal(r.status, 1);
     expect_in(r.err, "cli-bad.tmx:1:1: map: orientation \"hexagonal\" is not supported (only orthogonal maps)\n");
     assert_string_equal(r.out, "");
     free(r.out);
     free(r.err);
-    const char *a4[] = {"convert", "tiled", path_of("none.tmx"), NULL};
+    const char *a4[] = {"convert", "tiled", scratch_path("none.tmx"), NULL};
     run_cli(&r, a4);
     assert_int_equal(r.status, 2);
     expect_in(r.err, "ntile convert: cannot open '");
