@@ -23,7 +23,6 @@
 #define NT__SCALAR
 #endif
 
-
 /* Candidate pushes, chosen without branches: on random placements every "is this
  * one shorter" comparison is unpredictable, so the minimum is taken with
  * conditional moves over a small list. A masked candidate has depth NT_REAL_MAX and
@@ -125,12 +124,11 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
  * B n H is clamp(c, B) when that lies in H, and otherwise the nearest point of the
  * slope segment (the constraint H is then active). Push along c - p by r - |c - p|,
  * with the face's exact normal and distance when p is inside a face (a masked face
- * then gives no push).
- *
- * circle_polygon is the unmasked case without branches on the placement: random
- * placements make every region test a coin toss, and a mispredicted branch costs
- * more than computing both sides. It chooses exactly what circle_polygon_general
- * chooses (same candidates, same order, same arithmetic), so both give the same bits. */
+ * then gives no push). This general form serves masked tiles (seams); the unmasked
+ * case is circle_polygon below, which reaches the same nearest point by another
+ * route with almost no branches on the placement (random placements make every
+ * region test a coin toss, and a mispredicted branch costs more than computing
+ * both sides). The two agree to rounding. */
 static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     const nt_tile_info *t = &nt__tiles[tile];
@@ -192,7 +190,6 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
     if (dist >= r) return NT__SEPARATE;
     return push_out(r - dist, vx / dist, vy / dist, 0, 0, out);
 }
-
 
 /* Below this squared distance a centre just outside the tile could lose its
  * direction to underflow; the general routine measures those. */
