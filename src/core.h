@@ -166,10 +166,11 @@ static inline int nt__floor_int(nt_real v)
 #ifndef NT_CORE_WORLD_INTERNALS
 #define NT_CORE_WORLD_INTERNALS
 
+#include "ntile/world.h" /* public: outside the hidden region */
+
 #if defined(__GNUC__)
 #pragma GCC visibility push(hidden) /* internal, as above */
 #endif
-#include "ntile/world.h"
 
 enum {
     NT__BF_SENSOR = 1,     /* is_sensor */
