@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "state.h"
+#include "../common/stream.h"
 
 const pg_gizmo_info pg_gizmos[PG_GZ_COUNT] = {
     {"tiles", 'T', "tile outlines"},
@@ -98,33 +99,12 @@ static int read_file(const char *path, char **out, size_t *len, char *why, size_
         snprintf(why, cap, "cannot open '%s': %s", path, strerror(errno));
         return 0;
     }
-    size_t n = 0, c = 1 << 16;
-    char *buf = malloc(c + 1);
-    while (buf) {
-        if (n == c) {
-            char *nb = c < ((size_t)1 << 30) ? realloc(buf, c * 2 + 1) : NULL;
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            c *= 2;
-        }
-        size_t k = fread(buf + n, 1, c - n, f);
-        n += k;
-        if (k == 0) break;
-    }
-    int err = ferror(f);
+    int r = stream_read_all(f, (size_t)1 << 30, out, len);
     fclose(f);
-    if (!buf || err) {
-        free(buf);
-        snprintf(why, cap, "cannot read '%s'%s", path, buf ? "" : ": out of memory or too large");
+    if (r != STREAM_OK) {
+        snprintf(why, cap, "cannot read '%s'%s", path, r == STREAM_NO_MEMORY ? ": out of memory or too large" : "");
         return 0;
     }
-    buf[n] = '\0';
-    *out = buf;
-    *len = n;
     return 1;
 }
 

@@ -19,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "../common/stream.h"
 #include "ntile/game.h"
 
 /* ---------------------------------------------------------------- files */
@@ -32,38 +33,16 @@ int cli_read_file(const char *path, char **out, size_t *len, char *why, size_t w
         snprintf(why, why_cap, "cannot open '%s': %s", path, strerror(errno));
         return 0;
     }
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap + 1);
-    for (;;) {
-        if (!buf) break;
-        if (n == cap) {
-            char *nb = cap <= ((size_t)-1) / 4 ? realloc(buf, cap * 2 + 1) : NULL;
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t k = fread(buf + n, 1, cap - n, f);
-        n += k;
-        if (k == 0) break;
-    }
-    int err = ferror(f);
+    int r = stream_read_all(f, (size_t)-1 / 4 + 1, out, len);
     if (f != stdin) fclose(f);
-    if (!buf) {
+    if (r == STREAM_NO_MEMORY) {
         snprintf(why, why_cap, "out of memory reading '%s'", path);
         return 0;
     }
-    if (err) {
+    if (r == STREAM_READ_ERROR) {
         snprintf(why, why_cap, "error reading '%s'", path);
-        free(buf);
         return 0;
     }
-    buf[n] = '\0';
-    *out = buf;
-    *len = n;
     return 1;
 }
 

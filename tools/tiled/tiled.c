@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 #include <zlib.h>
 #include "internal.h"
+#include "../common/stream.h"
 
 /* ---------------------------------------------------------------- arena */
 
@@ -304,34 +305,11 @@ static int read_whole(const char *path, char **out, size_t *len, char *why, size
         fclose(f);
         return 0;
     }
-    size_t n = 0, size = 1 << 14;
-    char *buf = malloc(size);
-    for (;;) {
-        if (!buf) {
-            fclose(f);
-            snprintf(why, cap, "out of memory");
-            return 0;
-        }
-        n += fread(buf + n, 1, size - n - 1, f);
-        if (ferror(f)) {
-            snprintf(why, cap, "%s", strerror(errno));
-            free(buf);
-            fclose(f);
-            return 0;
-        }
-        if (feof(f)) break;
-        if (n + 1 >= size) {
-            char *b2 = size > ((size_t)-1) / 4 ? NULL : realloc(buf, size * 2);
-            if (!b2) free(buf);
-            buf = b2;
-            size *= 2;
-        }
-    }
+    int r = stream_read_all(f, (size_t)-1 / 4 + 1, out, len);
+    if (r == STREAM_READ_ERROR) snprintf(why, cap, "%s", strerror(errno));
     fclose(f);
-    buf[n] = '\0';
-    *out = buf;
-    *len = n;
-    return 1;
+    if (r == STREAM_NO_MEMORY) snprintf(why, cap, "out of memory");
+    return r == STREAM_OK;
 }
 
 static int ends_with(const char *s, const char *tail)
