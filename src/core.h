@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "ntile/ntile.h"
 
 /* Everything declared here is internal: hidden from libntile.so's exports, and
@@ -32,6 +33,13 @@ void *nt__alloc(size_t size);
 void nt__free(void *ptr);
 
 #define R(x) ((nt_real)(x))
+
+/* Keeps a rarely taken path out of its caller (a smaller hot loop). */
+#if defined(__GNUC__)
+#define NT__NOINLINE __attribute__((noinline))
+#else
+#define NT__NOINLINE
+#endif
 
 #if NT_REAL_IS_DOUBLE
 #define nt__sqrt sqrt
@@ -148,10 +156,13 @@ static inline int nt__map_tile(const nt_map *map, int x, int y)
 }
 
 /* floor() as an int, clamped to +-1e9 (NaN gives -1e9). Without a libm call:
- * baseline x86-64 has no rounding instruction, and this runs for every cell range. */
+ * baseline x86-64 has no rounding instruction, and this runs for every cell range.
+ * The clamp is two selects (max/min instructions, NaN falls to the first), not a
+ * branch: 1e9 is exact in float and double, so clamped values convert exactly. */
 static inline int nt__floor_int(nt_real v)
 {
-    if (!(v > R(-1e9) && v < R(1e9))) return v > 0 ? 1000000000 : -1000000000;
+    v = v > R(-1e9) ? v : R(-1e9);
+    v = v < R(1e9) ? v : R(1e9);
     int i = (int)v;
     return i - ((nt_real)i > v);
 }
@@ -301,9 +312,24 @@ static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
     nt_real base = w->cell * R(2.5e-4);
     if (mag * NT_REAL_EPS * 8 <= base) return base;
-    int e;
-    (void)frexp((double)mag, &e);
-    return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, e));
+    /* 8 ulp of the binade holding mag: 2^(e + 3) * eps with mag = f * 2^e, f in
+     * [0.5, 1), built from mag's exponent field E (e = E - bias + 1) instead of
+     * frexp and ldexp, which are library calls (this runs for every body resolved
+     * far from the origin). Tiny magnitudes (a tiny cell size) take the calls. */
+    nt_real ulp8;
+#if NT_REAL_IS_DOUBLE
+    uint64_t bits;
+    memcpy(&bits, &mag, sizeof bits);
+    if ((bits >> 52) <= 48 || (bits >> 52) >= 2047) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS * 8, ilogb(mag) + 1));
+    bits = ((bits >> 52) - 48) << 52;
+#else
+    uint32_t bits;
+    memcpy(&bits, &mag, sizeof bits);
+    if ((bits >> 23) <= 19 || (bits >> 23) >= 255) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, ilogb(mag) + 1));
+    bits = ((bits >> 23) - 19) << 23;
+#endif
+    memcpy(&ulp8, &bits, sizeof ulp8);
+    return nt__max(base, ulp8);
 }
 
 /* floor() to int without a libm call, for the hot paths; clamped like nt__floor_int. */
@@ -341,7 +367,6 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 
 /* response.c */
 nt_status nt__step(nt_world *w, nt_real dt);
-bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res);
 
 /* Both bodies of a contact are still the ones it was made for. */
 static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)

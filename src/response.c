@@ -286,16 +286,14 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
     return worst;
 }
 
-/* True when every cell the box can touch is an EMPTY cell of the map: nothing to
- * resolve (the common case for a body in the air, checked without a call). */
-static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
+/* True when every cell the box's range covers is an EMPTY cell of the map. Out of
+ * line: most bodies in the air are answered by the 3 x 3 test before it. */
+NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h)
 {
     nt_real ic = w->inv_cell;
     int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
     int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
     const nt_map *m = w->map;
-    /* The box lies within the 3 x 3 cells around its centre's cell. */
-    if (nt__map_open3(m, nt__ifloor(p.x * ic), nt__ifloor(p.y * ic))) return 1;
     if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
     for (int y = y0; y <= y1; y++) {
         const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;
@@ -305,9 +303,20 @@ static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
     return 1;
 }
 
-bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
+/* True when every cell the box can touch is an EMPTY cell of the map: nothing to
+ * resolve (the common case for a body in the air, checked without a call). A body
+ * is at most half a cell, so it lies within the 3 x 3 cells around its centre's. */
+static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
 {
-    if (open_air(w, p, b->half)) return false;
+    nt_real ic = w->inv_cell;
+    if (nt__map_open3(w->map, nt__ifloor(p.x * ic), nt__ifloor(p.y * ic))) return 1;
+    return open_range(w, p, h);
+}
+
+/* The tile resolution of a body that is not in open air (see resolve_body). */
+NT__NOINLINE static bool resolve_near(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p,
+                                      nt_resolution *res)
+{
     nt_shape s = nt__body_shape(b);
     if (!w->oneway_count || !oneway_in_range(w, p, b->half)) return nt_map_resolve(w->map, p, s, res);
     /* One-way tiles stop a body only from above, and only if it was not inside them. */
@@ -321,6 +330,14 @@ bool nt__resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_v
         if (ok) return true;
     }
     return nt_map_resolve(w->solid, p, s, res);
+}
+
+/* Free the body at p (it was at p_prev) from the tiles: false when it touches none,
+ * else true with the resolution in *res (world units). */
+static inline bool resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
+{
+    if (open_air(w, p, b->half)) return false;
+    return resolve_near(w, b, p_prev, p, res);
 }
 
 static inline int cell_material_index(const nt_world *w, int x, int y)
@@ -558,7 +575,7 @@ static void correct_positions(nt_world *w)
         b->flags &= (uint8_t)~NT__BF_MOVED;
         nt_resolution res;
         nt_vec2 p0 = nt_v2(prev[2 * i], prev[2 * i + 1]);
-        if (nt__resolve_body(w, b, p0, b->p, &res)) {
+        if (resolve_body(w, b, p0, b->p, &res)) {
             apply_push(w, b, &res);
             store_tile_contacts(w, b, &res, 0);
         } else {
@@ -748,16 +765,19 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
 {
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
-    nt_real dist = nt__len(disp), hmin = nt__min(b->half.x, b->half.y);
+    nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
     int n = 1;
-    /* A step longer than the smaller half-size could skip a thin piece of tile. */
-    if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) {
-        nt_real q = dist / hmin;
-        n = q >= 256 ? 256 : (int)q + 1;
+    /* A step longer than the smaller half-size could skip a thin piece of tile. (The
+     * square root only for steps near that length or longer: most are far shorter.) */
+    if (!(d2 < R(0.98) * hmin * hmin)) {
+        nt_real dist = nt__sqrt(d2);
+        if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) {
+            nt_real q = dist / hmin;
+            n = q >= 256 ? 256 : (int)q + 1;
+        }
     }
     nt_real h = dt / (nt_real)n;
-    hit_rec hit;
-    memset(&hit, 0, sizeof hit);
+    hit_rec hit = {0, {0, 0}, 0, 0};
     /* A body that does not move, where the last resolution moved it by nothing, with
      * the tiles unchanged since: the resolution would give the same answer again (it
      * depends on the position and the tiles only), so keep its contacts as they are.
@@ -777,7 +797,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
         b->p.y += b->v.y * h;
         nt_vec2 p1 = b->p;
         nt_resolution res;
-        if (!nt__resolve_body(w, b, p0, b->p, &res)) {
+        if (!resolve_body(w, b, p0, b->p, &res)) {
             b->ntc = 0;
         } else {
             apply_push(w, b, &res);
