@@ -243,6 +243,21 @@ typedef struct nt__body_cold {
     int32_t cprev, cnext;      /* creation order */
 } nt__body_cold;
 
+/* The velocity solver's copy of a body in a contact (compact, so that the
+ * iterations stay in cache however many bodies the world holds). */
+typedef struct nt__svel {
+    nt_vec2 v;
+    nt_real w;                 /* inverse mass as the solver sees it (0: does not move) */
+} nt__svel;
+
+/* A solver body's tile contacts as one-sided constraints (see solve_tile_block). */
+typedef struct nt__stile {
+    int32_t s, ntc;            /* its nt__svel, its tile contact count (1 or 2) */
+    nt_vec2 n[2];
+    nt_real lambda[2];
+    int32_t body;
+} nt__stile;
+
 /* A body pair whose shapes overlap (or a sensor and a visitor). a < b by slot. */
 typedef struct nt__contact {
     uint64_t key;              /* (a << 32) | b */
@@ -252,6 +267,7 @@ typedef struct nt__contact {
     nt_real ln, lt;            /* accumulated normal / tangent impulses (warm start) */
     nt_real friction, bounce, bias, meff;
     uint32_t flags;
+    int32_t sa, sb;            /* the velocity solver's nt__svel of a and b, this step */
 } nt__contact;
 
 struct nt_world {
@@ -299,6 +315,8 @@ struct nt_world {
     int cap_begin, cap_end, cap_hit, cap_sbegin, cap_send;
 
     int32_t *wake_list;        /* bodies to wake after pair finding (capacity body_cap) */
+    nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
+    nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
     int wake_count;
     nt_world_counters counters;
 };

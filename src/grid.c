@@ -259,8 +259,11 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     return 1;
 }
 
-/* Awake bodies as proxies sorted by cell: a stable radix sort (two 12-bit passes:
- * cells < 2^24) of the awake order, so the result is deterministic. */
+/* Awake bodies as proxies sorted by cell: a stable radix sort (two passes of half
+ * the key's bits each, at most 12: cells < 2^24) of the awake order, so the result
+ * is deterministic. Digits no wider than the grid needs keep the scatter's write
+ * streams few (256 for a 256 x 256 grid), which matters once the proxies outgrow
+ * the cache. */
 static nt_status build_proxies(nt_world *w, int *count)
 {
     if (w->awake_count > w->prox_cap) {
@@ -278,6 +281,10 @@ static nt_status build_proxies(nt_world *w, int *count)
         if (!w->radix) return NT_ERR_OUT_OF_MEMORY;
     }
     uint32_t *c0 = w->radix, *c1 = w->radix + 4096;
+    unsigned bits = 2;
+    while (bits < 24 && ((uint32_t)w->grid_w * (uint32_t)w->grid_h - 1u) >> bits) bits++;
+    const unsigned lo = (bits + 1) / 2;
+    const uint32_t lo_mask = (1u << lo) - 1u, digits = 1u << lo; /* lo >= bits - lo */
     memset(w->radix, 0, 2 * 4096 * sizeof *w->radix);
     nt__proxy *src = w->prox_tmp;
     int n = 0;
@@ -291,11 +298,11 @@ static nt_status build_proxies(nt_world *w, int *count)
         q->half = b->half;
         q->key = (uint32_t)b->gcell >> 1;
         q->body = i;
-        c0[q->key & 4095u]++;
-        c1[q->key >> 12]++;
+        c0[q->key & lo_mask]++;
+        c1[q->key >> lo]++;
     }
     uint32_t s0 = 0, s1 = 0;
-    for (int d = 0; d < 4096; d++) {
+    for (uint32_t d = 0; d < digits; d++) {
         uint32_t t0 = c0[d], t1 = c1[d];
         c0[d] = s0;
         c1[d] = s1;
@@ -303,8 +310,8 @@ static nt_status build_proxies(nt_world *w, int *count)
         s1 += t1;
     }
     nt__proxy *mid = w->prox;
-    for (int k = 0; k < n; k++) mid[c0[src[k].key & 4095u]++] = src[k];
-    for (int k = 0; k < n; k++) src[c1[mid[k].key >> 12]++] = mid[k];
+    for (int k = 0; k < n; k++) mid[c0[src[k].key & lo_mask]++] = src[k];
+    for (int k = 0; k < n; k++) src[c1[mid[k].key >> lo]++] = mid[k];
     *count = n;
     return NT_OK;
 }

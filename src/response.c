@@ -598,23 +598,21 @@ static void hit_event_bodies(nt_world *w, const nt__contact *c, nt_real speed)
     e->speed = speed;
 }
 
-/* The body's tile contacts as one-sided constraints with accumulated impulses
+/* A body's tile contacts as one-sided constraints with accumulated impulses
  * (lambda, velocity units), solved exactly: with two surfaces the small
  * complementarity problem is enumerated (both, first, second, none), as Box2D's
  * block solver does for two-point manifolds. */
-static void solve_tile_block(nt__body *b)
+static void solve_tile_block(nt__stile *t, nt_vec2 *v)
 {
-    if (b->ntc == 1) {
-        nt__tile_ct *t = &b->tc[0];
-        nt_real l = nt__max(t->lambda - nt__dot(b->v, t->n), 0);
-        b->v = nt__add(b->v, nt__scale(t->n, l - t->lambda));
-        t->lambda = l;
+    if (t->ntc == 1) {
+        nt_real l = nt__max(t->lambda[0] - nt__dot(*v, t->n[0]), 0);
+        *v = nt__add(*v, nt__scale(t->n[0], l - t->lambda[0]));
+        t->lambda[0] = l;
         return;
     }
-    nt__tile_ct *t1 = &b->tc[0], *t2 = &b->tc[1];
-    nt_vec2 n1 = t1->n, n2 = t2->n;
+    nt_vec2 n1 = t->n[0], n2 = t->n[1];
     /* The velocity without the tiles' impulses. */
-    nt_vec2 v0 = nt__sub(b->v, nt__add(nt__scale(n1, t1->lambda), nt__scale(n2, t2->lambda)));
+    nt_vec2 v0 = nt__sub(*v, nt__add(nt__scale(n1, t->lambda[0]), nt__scale(n2, t->lambda[1])));
     nt_real b1 = nt__dot(v0, n1), b2 = nt__dot(v0, n2), c = nt__dot(n1, n2);
     nt_real x1 = 0, x2 = 0, det = 1 - c * c;
     if (det > R(1e-6)) {
@@ -634,9 +632,33 @@ static void solve_tile_block(nt__body *b)
             }
         }
     }
-    t1->lambda = x1;
-    t2->lambda = x2;
-    b->v = nt__add(v0, nt__add(nt__scale(n1, x1), nt__scale(n2, x2)));
+    t->lambda[0] = x1;
+    t->lambda[1] = x2;
+    *v = nt__add(v0, nt__add(nt__scale(n1, x1), nt__scale(n2, x2)));
+}
+
+/* The compact solver body of body i, made on first sight (its velocity and the
+ * solver's inverse mass copied, its tile contacts too when it moves and has some). */
+static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *nsv, int *nst)
+{
+    if (index[i] >= 0) return index[i];
+    const nt__body *b = &w->bodies[i];
+    int32_t s = (int32_t)(*nsv)++;
+    index[i] = s;
+    nt__svel *sv = w->svel;
+    sv[s].v = b->v;
+    sv[s].w = solver_w(b);
+    if (sv[s].w > 0 && b->ntc) {
+        nt__stile *t = &w->stile[(*nst)++];
+        t->s = s;
+        t->ntc = b->ntc;
+        t->body = i;
+        for (int k = 0; k < b->ntc; k++) {
+            t->n[k] = b->tc[k].n;
+            t->lambda[k] = b->tc[k].lambda;
+        }
+    }
+    return s;
 }
 
 static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
@@ -660,8 +682,6 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 
     /* Body contacts. Restitution targets and hit speeds come from the velocities
      * before any contact impulse (warm start included) is applied. */
-    int32_t *tiled = w->wake_list; /* bodies whose tile contacts join the iterations */
-    int ntiled = 0;
     int any = 0;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
@@ -671,6 +691,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         nt_real wa = solver_w(a), wb = solver_w(b);
         if (wa + wb <= 0) continue;
         any = 1;
+        w->scratch_a[key_a(c->key)] = w->scratch_a[key_b(c->key)] = -1;
         c->meff = 1 / (wa + wb);
         c->friction = nt__sqrt(a->friction * b->friction);
         c->bounce = nt__max(a->bounce, b->bounce);
@@ -690,11 +711,20 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             c->lt = touch && hits ? -c->friction * nt__dot(nt__sub(b->v, a->v), perp(c->n)) * c->meff : 0;
         }
     }
+    /* From here on the solver works on compact copies (nt__svel, w->stile): the
+     * iterations touch nothing else, and the results go back to the bodies at the
+     * end. Solver bodies are numbered in order of first appearance in the contacts,
+     * tile blocks likewise: the same order, the same arithmetic, as on the bodies. */
+    int32_t *index = w->scratch_a; /* body -> solver body; -1 (set above): none yet */
+    int nsv = 0, nst = 0;
+    nt__svel *sv = w->svel;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         if (c->meff <= 0) continue;
-        nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
-        nt_real wa = solver_w(a), wb = solver_w(b);
+        c->sa = solver_body(w, key_a(c->key), index, &nsv, &nst);
+        c->sb = solver_body(w, key_b(c->key), index, &nsv, &nst);
+        nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
+        nt_real wa = a->w, wb = b->w;
         nt_vec2 n = c->n, t = perp(n);
         if (model == NT_FRICTION_COULOMB) c->lt *= dt_ratio;
         c->ln *= dt_ratio;
@@ -702,46 +732,57 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         a->v = nt__sub(a->v, nt__scale(P, wa));
         b->v = nt__add(b->v, nt__scale(P, wb));
         if (model == NT_FRICTION_N) c->lt = 0; /* N's friction is not carried over */
-        for (int s = 0; s < 2; s++) {
-            nt__body *bi = s ? b : a;
-            if ((s ? wb : wa) > 0 && bi->ntc && !(bi->flags & NT__BF_MARK)) {
-                bi->flags |= NT__BF_MARK;
-                tiled[ntiled++] = s ? key_b(c->key) : key_a(c->key);
+    }
+    nt__stile *st = w->stile;
+    if (any) {
+        for (int it = 0; it < w->def.velocity_iterations; it++) {
+            /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */
+            for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
+            for (int k = 0; k < w->con_count; k++) {
+                nt__contact *c = &w->con[k];
+                if (c->meff <= 0) continue;
+                nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
+                nt_real wa = a->w, wb = b->w;
+                nt_vec2 n = c->n;
+                nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
+                nt_real ln = nt__max(c->ln - (vn - c->bias) * c->meff, 0);
+                nt_real dl = ln - c->ln;
+                c->ln = ln;
+                a->v = nt__sub(a->v, nt__scale(n, dl * wa));
+                b->v = nt__add(b->v, nt__scale(n, dl * wb));
+                if (model == NT_FRICTION_COULOMB) {
+                    nt_vec2 t = perp(n);
+                    nt_real vt = nt__dot(nt__sub(b->v, a->v), t);
+                    nt_real lim = c->friction * c->ln;
+                    nt_real lt = nt__clamp(c->lt - vt * c->meff, -lim, lim);
+                    nt_real dt_ = lt - c->lt;
+                    c->lt = lt;
+                    a->v = nt__sub(a->v, nt__scale(t, dt_ * wa));
+                    b->v = nt__add(b->v, nt__scale(t, dt_ * wb));
+                }
             }
         }
+        /* Tiles have the last word: no velocity into a surface after the solve. */
+        for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
     }
-    for (int q = 0; q < ntiled; q++) w->bodies[tiled[q]].flags &= (uint8_t)~NT__BF_MARK;
-    if (!any) return;
-
-    for (int it = 0; it < w->def.velocity_iterations; it++) {
-        /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */
-        for (int q = 0; q < ntiled; q++) solve_tile_block(&w->bodies[tiled[q]]);
-        for (int k = 0; k < w->con_count; k++) {
-            nt__contact *c = &w->con[k];
-            if (c->meff <= 0) continue;
-            nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
-            nt_real wa = solver_w(a), wb = solver_w(b);
-            nt_vec2 n = c->n;
-            nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
-            nt_real ln = nt__max(c->ln - (vn - c->bias) * c->meff, 0);
-            nt_real dl = ln - c->ln;
-            c->ln = ln;
-            a->v = nt__sub(a->v, nt__scale(n, dl * wa));
-            b->v = nt__add(b->v, nt__scale(n, dl * wb));
-            if (model == NT_FRICTION_COULOMB) {
-                nt_vec2 t = perp(n);
-                nt_real vt = nt__dot(nt__sub(b->v, a->v), t);
-                nt_real lim = c->friction * c->ln;
-                nt_real lt = nt__clamp(c->lt - vt * c->meff, -lim, lim);
-                nt_real dt_ = lt - c->lt;
-                c->lt = lt;
-                a->v = nt__sub(a->v, nt__scale(t, dt_ * wa));
-                b->v = nt__add(b->v, nt__scale(t, dt_ * wb));
-            }
+    /* Back to the bodies: velocities (of every solver body: one that does not move
+     * received zero impulses, which can still turn a -0 into +0, as on the bodies)
+     * and tile impulses. */
+    for (int k = 0; k < w->con_count; k++) {
+        const nt__contact *c = &w->con[k];
+        if (c->meff <= 0) continue;
+        for (int s2 = 0; s2 < 2; s2++) {
+            int32_t i = s2 ? key_b(c->key) : key_a(c->key);
+            int32_t q = s2 ? c->sb : c->sa;
+            if (index[i] != q) continue; /* written back already */
+            index[i] = -1;
+            w->bodies[i].v = sv[q].v;
         }
     }
-    /* Tiles have the last word: no velocity into a surface after the solve. */
-    for (int q = 0; q < ntiled; q++) solve_tile_block(&w->bodies[tiled[q]]);
+    for (int q = 0; q < nst; q++) {
+        nt__body *b = &w->bodies[st[q].body];
+        for (int k = 0; k < st[q].ntc; k++) b->tc[k].lambda = st[q].lambda[k];
+    }
 }
 
 /* ---------------------------------------------------------------- 4. move */

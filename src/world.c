@@ -103,7 +103,11 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     int32_t *sa = (int32_t *)nt__alloc(2 * n * sizeof *sa);
     nt_real *sr = (nt_real *)nt__alloc(2 * n * sizeof *sr);
     int32_t *wl = (int32_t *)nt__alloc(n * sizeof *wl);
-    if (!b || !c || !aw || !sa || !sr || !wl) {
+    nt__svel *sv = (nt__svel *)nt__alloc(n * sizeof *sv);
+    nt__stile *st = (nt__stile *)nt__alloc(n * sizeof *st);
+    if (!b || !c || !aw || !sa || !sr || !wl || !sv || !st) {
+        nt__free(sv);
+        nt__free(st);
         nt__free(b);
         nt__free(c);
         nt__free(aw);
@@ -123,6 +127,10 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__free(w->scratch_a);
     nt__free(w->scratch_r);
     nt__free(w->wake_list);
+    nt__free(w->svel);
+    nt__free(w->stile);
+    w->svel = sv;
+    w->stile = st;
     w->bodies = b;
     w->cold = c;
     w->awake = aw;
@@ -178,6 +186,8 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->scratch_a);
     nt__free(w->scratch_r);
     nt__free(w->wake_list);
+    nt__free(w->svel);
+    nt__free(w->stile);
     nt__free(w->heads);
     nt__free(w->occupied);
     nt__free(w->rest_near);
