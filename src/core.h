@@ -218,18 +218,22 @@ typedef struct nt__proxy {
     int32_t body;
 } nt__proxy;
 
-/* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold. */
+/* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold.
+ * Everything the pair search and the contact solvers read of a body is in its
+ * first 64 bytes (in float builds: one cache line), so that a contact costs one
+ * line per body even when the bodies no longer fit in the cache. */
 typedef struct nt__body {
-    /* What the pair search reads of a neighbour comes first (one cache line). */
-    nt_vec2 p, half;
+    nt_vec2 p, half, v;
     int32_t gnext;             /* broad phase: next body in the cell's list */
     uint32_t category, mask;
     uint8_t type, shape, flags, ntc;
-    nt_vec2 v;
-    int32_t gcell, gprev;      /* broad phase: list head index (-1 = not in the grid), previous */
-    nt_real inv_mass, gravity_scale, drag, friction, bounce, sleep_time;
     uint32_t generation;
     int32_t awake_slot;        /* index in world->awake, -1 when not simulated */
+    nt_real inv_mass, friction, bounce;
+    int32_t gcell;             /* broad phase: list head index (-1 = not in the grid) */
+    /* The rest: integration, sleep, the broad phase's list links, tile contacts. */
+    int32_t gprev;             /* broad phase: previous body in the cell's list */
+    nt_real gravity_scale, drag, sleep_time;
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
     uint8_t glist;             /* NT__LIST_* */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
@@ -305,7 +309,8 @@ struct nt_world {
     int sort_cap;
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
-    int con_dirty;             /* con not sorted by key */
+    int con_dirty;             /* con not sorted by key: only its first con_sorted are */
+    int con_sorted;
 
     nt_contact_begin_event *ev_begin;
     nt_contact_end_event *ev_end;

@@ -176,8 +176,24 @@ static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *
 static nt_status collide(nt_world *w, nt_real dt)
 {
     if (w->con_dirty) {
-        nt__contact *r = sort_contacts(w->con, w->con_tmp, w->con_count);
-        if (r != w->con) memcpy(w->con, r, (size_t)w->con_count * sizeof *r);
+        /* Contacts woken since the last step were appended after the sorted ones:
+         * sort those few, then merge (not a sort of the whole list, which is most
+         * of a big world's contacts every step something wakes). */
+        int ns = w->con_sorted, n = w->con_count;
+        nt__contact *tail = sort_contacts(w->con + ns, w->con_tmp + ns, n - ns);
+        if (tail != w->con + ns) memcpy(w->con + ns, tail, (size_t)(n - ns) * sizeof *tail);
+        const nt__contact *a = w->con, *b = w->con + ns;
+        nt__contact *out = w->con_tmp;
+        int i = 0, j = 0, k = 0, m = n - ns;
+        while (i < ns && j < m) out[k++] = b[j].key < a[i].key ? b[j++] : a[i++];
+        while (i < ns) out[k++] = a[i++];
+        while (j < m) out[k++] = b[j++];
+        nt__contact *t = w->con;
+        int tc = w->con_cap;
+        w->con = w->con_tmp;
+        w->con_cap = w->con_tmp_cap;
+        w->con_tmp = t;
+        w->con_tmp_cap = tc;
         w->con_dirty = 0;
     }
     nt_status s = nt__grid_find_pairs(w, dt);

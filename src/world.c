@@ -473,6 +473,7 @@ void nt__unpark(nt_world *w)
         nt__contact *c = &w->parked[i];
         if (contact_live_awake(w, c)) {
             /* Room is guaranteed: con_cap >= con_count + parked_count. */
+            if (!w->con_dirty) w->con_sorted = w->con_count; /* the sorted part ends here */
             w->con[w->con_count++] = *c;
             w->con_dirty = 1;
         } else {
