@@ -543,13 +543,25 @@ static void correct_positions(nt_world *w)
     if (iters == 0 || w->con_count == 0) return;
     int32_t *moved = w->wake_list;
     nt_real *prev = w->scratch_r;
+    /* When each body was last pushed (iteration, contact): a contact whose bodies
+     * have not been pushed since it was last tested gives the same answer again
+     * (it depends on their positions only), so later iterations test only the
+     * contacts around pushed bodies. */
+    int32_t *push_it = w->scratch_a, *push_k = w->scratch_a + w->body_cap;
+    for (int k = 0; k < w->con_count; k++) push_it[key_a(w->con[k].key)] = push_it[key_b(w->con[k].key)] = -1;
     int nm = 0;
     for (int it = 0; it < iters; it++) {
         int pushed = 0;
         for (int k = 0; k < w->con_count; k++) {
             nt__contact *c = &w->con[k];
-            if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
             int32_t ia = key_a(c->key), ib = key_b(c->key);
+            if (it > 0) {
+                /* Untouched since the test at (it - 1, k)? */
+                int fresh_a = push_it[ia] > it - 1 || (push_it[ia] == it - 1 && push_k[ia] >= k);
+                int fresh_b = push_it[ib] > it - 1 || (push_it[ib] == it - 1 && push_k[ib] >= k);
+                if (!fresh_a && !fresh_b) continue;
+            }
+            if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
             nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
             nt_real wa = solver_w(a), wb = solver_w(b);
             if (wa + wb <= 0) continue;
@@ -564,6 +576,8 @@ static void correct_positions(nt_world *w)
             if (wa + wb <= 0) continue;
             nt_real sa = d * wa / (wa + wb), sb = d - sa;
             pushed = 1;
+            push_it[ia] = push_it[ib] = it;
+            push_k[ia] = push_k[ib] = k;
             for (int s = 0; s < 2; s++) {
                 int32_t i = s ? ib : ia;
                 nt__body *bi = s ? b : a;
