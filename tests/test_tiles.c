@@ -14,6 +14,8 @@
 
 #include "ntile/ntile.h"
 #include "ref.h"
+/* The engine's internal tables, for the check that they agree with each other. */
+#include "../src/core.h"
 
 #define NTILES 34
 
@@ -444,6 +446,79 @@ static void test_side_coverage(void **state)
     }
 }
 
+
+/* ------------------------------------------------------------ internal tables agree */
+
+/* The narrow phase's face table (nt__polys) is hand-kept data beside the edge table
+ * (nt__geom) and the public table (vertices): the three must describe the same
+ * polygons. Every edge is one used face with the same integer half-plane and unit
+ * normal, ends at two of the tile's vertices, and faces come in the documented
+ * order (the slope, then outward normals -y, +y, -x, +x); other tiles have no face. */
+static void test_face_table_matches_edges(void **state)
+{
+    (void)state;
+    for (int t = 0; t < NTILES; t++) {
+        const nt__poly *pf = &nt__polys[t];
+        const nt__tile_geom *g = &nt__geom[t];
+        const nt_tile_info *info = &nt__tiles[t];
+        int used = 0;
+        for (int f = 0; f < 4; f++) used += pf->ud[f] != NT_REAL_MAX;
+        if (info->cls != NT_CLASS_POLYGON) {
+            assert_int_equal(used, 0);
+            continue;
+        }
+        assert_int_equal(used, g->edge_count);
+        /* Used faces first, in the documented order of normals. */
+        int rank_prev = -1;
+        for (int f = 0; f < used; f++) {
+            const nt__face *fc = &pf->face[f];
+            int rank = (fc->nx != 0 && fc->ny != 0) ? 0
+                       : fc->ny < 0                 ? 1
+                       : fc->ny > 0                 ? 2
+                       : fc->nx < 0                 ? 3
+                                                    : 4;
+            assert_true(rank > rank_prev);
+            rank_prev = rank;
+        }
+        for (int e = 0; e < g->edge_count; e++) {
+            const nt__edge *ed = &g->edges[e];
+            int match = -1;
+            for (int f = 0; f < used; f++)
+                if (pf->ux[f] == ed->ux && pf->uy[f] == ed->uy && pf->ud[f] == ed->ud) match = f;
+            if (match < 0) fail_msg("tile %d: edge %d has no face", t, e);
+            const nt__face *fc = &pf->face[match];
+            assert_true(pf->inv[match] == ed->inv);
+            assert_true(fc->nx == ed->nx && fc->ny == ed->ny);
+            assert_true(fabs((double)fc->tx - (double)ed->tx) < TAB_TOL && fabs((double)fc->ty - (double)ed->ty) < TAB_TOL);
+            /* Its ends: the edge's start and end, each a vertex of the tile, and on the
+             * face's line. */
+            double ends[2][2] = {{(double)ed->ax, (double)ed->ay},
+                                 {(double)ed->ax + (double)ed->tx * (double)ed->len,
+                                  (double)ed->ay + (double)ed->ty * (double)ed->len}};
+            for (int q = 0; q < 2; q++) {
+                assert_true(fabs((double)fc->vx[q] - ends[q][0]) < TAB_TOL);
+                assert_true(fabs((double)fc->vy[q] - ends[q][1]) < TAB_TOL);
+                int vertex = 0;
+                for (int v = 0; v < info->vertex_count; v++)
+                    vertex |= fabs((double)info->vertices[v].x - (double)fc->vx[q]) < TAB_TOL &&
+                              fabs((double)info->vertices[v].y - (double)fc->vy[q]) < TAB_TOL;
+                assert_true(vertex);
+                double on = (double)pf->ux[match] * (double)fc->vx[q] + (double)pf->uy[match] * (double)fc->vy[q] -
+                            (double)pf->ud[match];
+                assert_true(fabs(on) < TAB_TOL);
+            }
+        }
+        /* Outward: the vertices' centroid is inside every face. */
+        double cx = 0, cy = 0;
+        for (int v = 0; v < info->vertex_count; v++) {
+            cx += (double)info->vertices[v].x / info->vertex_count;
+            cy += (double)info->vertices[v].y / info->vertex_count;
+        }
+        for (int f = 0; f < used; f++)
+            assert_true((double)pf->ux[f] * cx + (double)pf->uy[f] * cy - (double)pf->ud[f] < 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -458,6 +533,7 @@ int main(void)
         cmocka_unit_test(test_vertices_and_arcs),
         cmocka_unit_test(test_bounds),
         cmocka_unit_test(test_side_coverage),
+        cmocka_unit_test(test_face_table_matches_edges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
