@@ -1,7 +1,7 @@
 /* Tests of `ntile sheet`, the answer-key SVG.
  *
- * The group setup runs the CLI named by NTILE (`make test` sets it) once and parses
- * its SVG with the small checker below (balanced tags, quoted attributes, valid
+ * The first test that needs it runs the CLI named by NTILE (`make test` sets it)
+ * once and parses its SVG with the small checker below (balanced tags, quoted attributes, valid
  * character references, one root <svg>). The tests then read the drawing back:
  *  - one <g id="tile-NAME"> per solid tile, names from the independent reference;
  *  - every sample's projection arrow equals nt_collide_tile_aabb/circle for the object
@@ -27,13 +27,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "ntile/ntile.h"
+#include "child.h"
 #include "ref.h"
+#include "scratch.h"
 
 /* ---------- a minimal XML well-formedness checker ---------- */
 
@@ -242,137 +241,69 @@ static int is_inside(const xdoc *d, int i, int ancestor)
 
 /* ---------- running the CLI ---------- */
 
-static char g_dir[4096];
-static char g_svg_path[4200];
 static char *g_svg;
+static int g_svg_tried;
 /* The sheet the tests read: the one generated now, or the committed tools/ntile/sheet.svg. */
 static xdoc g_fresh, g_committed;
 static xdoc *g_cur = &g_fresh;
 static int g_parsed;
 
-static char *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    for (;;) {
-        if (!buf) break;
-        n += fread(buf + n, 1, cap - n - 1, f);
-        if (n < cap - 1) break;
-        cap *= 2;
-        buf = realloc(buf, cap);
-    }
-    fclose(f);
-    if (buf) buf[n] = '\0';
-    if (len) *len = n;
-    return buf;
-}
-
-typedef struct run_result {
-    int status;
-    char *out, *err;
-    size_t out_len;
-} run_result;
-
-/* Run `ntile ARGS...` with stdout to out_path (or a temporary file), capturing both. */
-static int run_cli(run_result *r, const char *out_path, const char *const *args)
+/* The CLI named by NTILE (make test sets it); the test is skipped without it. */
+static const char *ntile_exe(void)
 {
     const char *exe = getenv("NTILE");
-    if (!exe || !*exe) return 0;
-    const char *argv[16];
-    int n = 0;
-    argv[n++] = exe;
-    while (*args && n < 15) argv[n++] = *args++;
-    argv[n] = NULL;
-    char out_tmp[4300], err_tmp[4300];
-    snprintf(out_tmp, sizeof out_tmp, "%s/stdout", g_dir);
-    snprintf(err_tmp, sizeof err_tmp, "%s/stderr", g_dir);
-    /* Only a temporary output is read back (reading /dev/full never ends). */
-    int own_out = !out_path;
-    if (own_out) out_path = out_tmp;
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) return 0;
-    if (pid == 0) {
-        int in = open("/dev/null", O_RDONLY), out = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600),
-            err = open(err_tmp, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        if (in < 0 || out < 0 || err < 0 || dup2(in, 0) < 0 || dup2(out, 1) < 0 || dup2(err, 2) < 0) _exit(125);
-        setenv("ASAN_OPTIONS", "exitcode=99", 0);
-        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
-        execv(exe, (char *const *)argv);
-        _exit(126);
-    }
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0)
-        if (errno != EINTR) return 0;
-    r->status = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-    r->out = own_out ? read_file(out_path, &r->out_len) : calloc(1, 1);
-    r->err = read_file(err_tmp, NULL);
-    unlink(out_tmp);
-    unlink(err_tmp);
-    return r->out && r->err;
-}
-
-static void run_free(run_result *r)
-{
-    free(r->out);
-    free(r->err);
-    memset(r, 0, sizeof *r);
-}
-
-/* A run that must not crash or trip a sanitizer. */
-static void run_checked(run_result *r, const char *out_path, const char *const *args)
-{
-    if (!getenv("NTILE") || !*getenv("NTILE")) {
+    if (!exe || !*exe) {
         print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
         skip();
     }
-    assert_true(run_cli(r, out_path, args));
-    assert_int_not_equal(r->status, 125);
-    assert_int_not_equal(r->status, 126);
-    if (r->status >= 128) fail_msg("the CLI died from signal %d", r->status - 128);
-    if (strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error"))
-        fail_msg("sanitizer report from the CLI:\n%s", r->err);
-    assert_true(r->status <= 2);
+    return exe;
+}
+
+/* In the child, before exec: standard output to the file named by ctx. */
+static void stdout_to(void *ctx)
+{
+    int fd = open((const char *)ctx, O_WRONLY);
+    if (fd < 0 || dup2(fd, 1) < 0) _exit(125);
+}
+
+/* `ntile ARGS...`, standard output captured (or sent to out_path); the test fails
+ * when the CLI crashes, trips a sanitizer or exits with a status above 2. */
+static void run_checked(child_result *r, const char *out_path, const char *const *args)
+{
+    child_run(r, scratch_dir(), ntile_exe(), args, out_path ? stdout_to : NULL, (void *)out_path, 3);
 }
 
 static int group_setup(void **state)
 {
     (void)state;
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_dir, sizeof g_dir, "%s/ntile-test-sheet-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_dir)) return -1;
-    snprintf(g_svg_path, sizeof g_svg_path, "%s/sheet.svg", g_dir);
-    const char *args[] = {"sheet", "-o", g_svg_path, NULL};
-    run_result r = {0};
-    if (run_cli(&r, NULL, args) && r.status == 0) {
-        g_svg = read_file(g_svg_path, NULL);
-        if (g_svg) g_parsed = xml_parse(g_svg, &g_fresh);
-    } else if (getenv("NTILE") && *getenv("NTILE")) {
-        fprintf(stderr, "ntile sheet failed (status %d): %s\n", r.status, r.err ? r.err : "");
-    }
-    run_free(&r);
-    return 0;
+    return scratch_create("sheet");
 }
 
 static int group_teardown(void **state)
 {
     (void)state;
-    unlink(g_svg_path);
-    rmdir(g_dir);
+    scratch_remove();
     free(g_svg);
     xdoc_free(&g_fresh);
     xdoc_free(&g_committed);
     return 0;
 }
 
-/* The tests that read the sheet need it generated and well formed. */
+/* The tests that read the sheet need it generated (once, by the first of them) and
+ * well formed. */
 static void need_sheet(void)
 {
-    if (!getenv("NTILE") || !*getenv("NTILE")) {
-        print_message("NTILE is not set; skipping\n");
-        skip();
+    (void)ntile_exe();
+    if (!g_svg_tried) {
+        g_svg_tried = 1;
+        const char *path = scratch_path("sheet.svg");
+        const char *args[] = {"sheet", "-o", path, NULL};
+        child_result r = {0};
+        run_checked(&r, NULL, args);
+        if (r.status != 0) fail_msg("ntile sheet failed (status %d): %s", r.status, r.err);
+        child_free(&r);
+        g_svg = scratch_read(path, NULL);
+        g_parsed = xml_parse(g_svg, &g_fresh);
     }
     assert_non_null(g_svg);
     if (!g_parsed) fail_msg("the sheet is not well formed: %s", g_fresh.err);
@@ -684,11 +615,11 @@ static void test_edge_states(void **state)
 static void test_committed_sheet(void **state)
 {
     (void)state;
-    char *text = read_file("tools/ntile/sheet.svg", NULL);
-    if (!text) {
+    if (access("tools/ntile/sheet.svg", R_OK) != 0) {
         print_message("tools/ntile/sheet.svg not found (not run from the source tree); skipping\n");
         skip();
     }
+    char *text = scratch_read("tools/ntile/sheet.svg", NULL);
     int ok = xml_parse(text, &g_committed);
     free(text);
     if (!ok) fail_msg("tools/ntile/sheet.svg is not well formed: %s (regenerate it with make sheet)", g_committed.err);
@@ -783,63 +714,63 @@ static void test_stdout_equals_file(void **state)
 {
     (void)state;
     need_sheet();
-    run_result r = {0};
+    child_result r = {0};
     const char *a[] = {"sheet", NULL};
     run_checked(&r, NULL, a);
     assert_int_equal(r.status, 0);
     assert_string_equal(r.out, g_svg);
-    run_free(&r);
+    child_free(&r);
     const char *b[] = {"sheet", "-o", "-", NULL};
     run_checked(&r, NULL, b);
     assert_int_equal(r.status, 0);
     assert_string_equal(r.out, g_svg);
-    run_free(&r);
+    child_free(&r);
 }
 
 static void test_usage_and_write_errors(void **state)
 {
     (void)state;
-    run_result r = {0};
+    child_result r = {0};
     const char *a1[] = {"sheet", "--bogus", NULL};
     run_checked(&r, NULL, a1);
     assert_int_equal(r.status, 2);
     assert_non_null(strstr(r.err, "unexpected argument '--bogus'"));
     assert_int_equal(r.out_len, 0);
-    run_free(&r);
+    child_free(&r);
     const char *a2[] = {"sheet", "-o", NULL};
     run_checked(&r, NULL, a2);
     assert_int_equal(r.status, 2);
     assert_non_null(strstr(r.err, "-o needs a file name"));
-    run_free(&r);
+    child_free(&r);
     char path[4400];
-    snprintf(path, sizeof path, "%s/no-such-dir/sheet.svg", g_dir);
+    snprintf(path, sizeof path, "%s/no-such-dir/sheet.svg", scratch_dir());
     const char *a3[] = {"sheet", "-o", path, NULL};
     run_checked(&r, NULL, a3);
     assert_int_equal(r.status, 2);
     assert_non_null(strstr(r.err, "cannot write"));
-    run_free(&r);
+    child_free(&r);
     const char *a4[] = {"sheet", "-o", "a.svg", "-o", "b.svg", NULL};
     run_checked(&r, NULL, a4);
     assert_int_equal(r.status, 2);
     assert_non_null(strstr(r.err, "more than one output file"));
-    run_free(&r);
+    child_free(&r);
     const char *a5[] = {"sheet", "--help", NULL};
     run_checked(&r, NULL, a5);
     assert_int_equal(r.status, 0);
     assert_non_null(strstr(r.out, "ntile sheet [-o FILE.svg]"));
-    run_free(&r);
+    child_free(&r);
     /* A full disk: the write error is reported, not ignored. */
     if (access("/dev/full", W_OK) == 0) {
         const char *a6[] = {"sheet", NULL};
         run_checked(&r, "/dev/full", a6);
         assert_int_equal(r.status, 2);
         assert_non_null(strstr(r.err, "error writing"));
-        run_free(&r);
+        child_free(&r);
         const char *a7[] = {"sheet", "-o", "/dev/full", NULL};
         run_checked(&r, NULL, a7);
         assert_int_equal(r.status, 2);
         assert_non_null(strstr(r.err, "error writing"));
-        run_free(&r);
+        child_free(&r);
     }
 }
 
