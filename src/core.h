@@ -324,6 +324,9 @@ struct nt_world {
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
     int wake_count;
     nt_world_counters counters;
+    int profiling;
+    nt_world_profile profile;  /* of the last step, while profiling */
+    double pairs_ms;           /* clock when collide had found the pairs (profiling) */
 };
 
 /* Contacts are left overlapping by this skin, so that a resting contact is found

@@ -19,6 +19,7 @@
  * position) so that a resting contact is found again next step without a gap
  * appearing and closing. */
 #include <string.h>
+#include <time.h>
 #include "core.h"
 
 #define skin_at nt__skin
@@ -45,6 +46,15 @@ static inline nt_real solver_w(const nt__body *b)
 static inline int contact_live(const nt_world *w, const nt__contact *c) { return nt__contact_is_live(w, c); }
 
 /* ---------------------------------------------------------------- 1. collide */
+
+/* Milliseconds of some clock, for the profile (C11's timespec_get: the library has no other). */
+static double clock_ms(void)
+{
+    struct timespec ts;
+    if (!timespec_get(&ts, TIME_UTC)) return 0;
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
 
 /* Stable bottom-up merge sort by key; returns the array holding the result. */
 static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
@@ -198,6 +208,7 @@ static nt_status collide(nt_world *w, nt_real dt)
     }
     nt_status s = nt__grid_find_pairs(w, dt);
     if (s != NT_OK) return s;
+    if (w->profiling) w->pairs_ms = clock_ms();
     int nn = w->con_new_count, no = w->con_count;
     /* Room for everything this step can produce (the merge keeps con and con_tmp
      * interchangeable, and unparking needs con_count + parked_count). */
@@ -1058,13 +1069,33 @@ static void update_sleep(nt_world *w, nt_real dt)
 
 nt_status nt__step(nt_world *w, nt_real dt)
 {
+    /* t[0] start, t[1] pairs found (set by collide), then the end of each phase. */
+    double t[7] = {0};
+    if (w->profiling) t[0] = clock_ms();
+    w->pairs_ms = 0;
     nt_status s = collide(w, dt);
     if (s != NT_OK) return s;
+    if (w->profiling) t[2] = clock_ms();
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
     correct_positions(w);
+    if (w->profiling) t[3] = clock_ms();
     solve_velocities(w, dt, ratio);
+    if (w->profiling) t[4] = clock_ms();
     move_bodies(w, dt);
+    if (w->profiling) t[5] = clock_ms();
     update_sleep(w, dt);
+    if (w->profiling) {
+        t[6] = clock_ms();
+        t[1] = w->pairs_ms;
+        nt_world_profile *p = &w->profile;
+        p->pairs = t[1] - t[0];
+        p->contacts = t[2] - t[1];
+        p->correct = t[3] - t[2];
+        p->solve = t[4] - t[3];
+        p->move = t[5] - t[4];
+        p->sleep = t[6] - t[5];
+        p->step = t[6] - t[0];
+    }
     w->prev_dt = dt;
     w->counters.body_count = w->body_count;
     w->counters.awake_count = w->awake_count;

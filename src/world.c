@@ -228,6 +228,20 @@ nt_world_counters nt_world_get_counters(const nt_world *w)
     return c;
 }
 
+void nt_world_enable_profile(nt_world *w, bool enable)
+{
+    if (!w) return;
+    w->profiling = enable;
+    memset(&w->profile, 0, sizeof w->profile);
+}
+
+nt_world_profile nt_world_get_profile(const nt_world *w)
+{
+    nt_world_profile p;
+    memset(&p, 0, sizeof p);
+    return w ? w->profile : p;
+}
+
 nt_vec2 nt_world_get_gravity(const nt_world *w) { return w ? w->def.gravity : nt_v2(0, 0); }
 
 static void wake_all(nt_world *w)

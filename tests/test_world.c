@@ -535,6 +535,46 @@ static void test_determinism_and_golden_hash(void **state)
     nt_world_destroy(w2);
 }
 
+/* The profile: zero until enabled; then each step's phases, which add up to the
+ * step (they are consecutive intervals of one clock), zero again when disabled; the
+ * same hash either way (timing never feeds the simulation). */
+static void test_profile(void **state)
+{
+    (void)state;
+    nt_world *w = golden_scene(), *plain = golden_scene();
+    nt_world_profile p = nt_world_get_profile(w);
+    assert_true(p.step == 0 && p.pairs == 0 && p.move == 0);
+    assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    assert_int_equal(nt_world_step(plain, R(1.0 / 40)), NT_OK);
+    assert_true(nt_world_get_profile(w).step == 0);
+    nt_world_enable_profile(w, true);
+    double total = 0;
+    for (int s = 0; s < 50; s++) {
+        assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+        assert_int_equal(nt_world_step(plain, R(1.0 / 40)), NT_OK);
+        p = nt_world_get_profile(w);
+        double parts[6] = {p.pairs, p.contacts, p.correct, p.solve, p.move, p.sleep}, sum = 0;
+        for (int k = 0; k < 6; k++) {
+            assert_true(parts[k] >= 0);
+            sum += parts[k];
+        }
+        assert_true(fabs(sum - p.step) <= 1e-9 * (1 + p.step));
+        total += p.step;
+    }
+    assert_true(total > 0); /* 50 steps of a few hundred bodies take measurable time */
+    assert_true(nt_world_hash(w) == nt_world_hash(plain));
+    nt_world_enable_profile(w, false);
+    p = nt_world_get_profile(w);
+    assert_true(p.step == 0 && p.solve == 0);
+    assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    assert_true(nt_world_get_profile(w).step == 0);
+    p = nt_world_get_profile(NULL);
+    assert_true(p.step == 0);
+    nt_world_enable_profile(NULL, true); /* ignored */
+    nt_world_destroy(w);
+    nt_world_destroy(plain);
+}
+
 /* Huge gravity times a huge gravity scale overflows the velocity: the step keeps it
  * finite, at the speed limit, pointing the way gravity pulls (found by the fuzzer). */
 static void test_velocity_overflow(void **state)
@@ -930,6 +970,7 @@ int main(void)
         cmocka_unit_test(test_debug_draw_gizmos),
         cmocka_unit_test(test_velocity_overflow),
         cmocka_unit_test(test_far_rays),
+        cmocka_unit_test(test_profile),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -71,9 +71,17 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
             return CLI_USAGE;
         }
         run_result r = bench_run(&engine_ntile, &none, &s, opts->runs, 1);
+        nt_world_profile prof;
+        int profiled = r.ok && ntile_scene_profile(&s, &prof);
+        double per = 1e6 / ((double)s.nbodies * s.steps); /* ms in all -> ns per body-step */
         scene_free(&s);
         if (!r.ok) return CLI_USAGE;
         bench_print_row(name, &r, NULL);
+        if (profiled)
+            printf("#  %-16s phases, ns/body-step: pairs %.1f  contacts %.1f  correct %.1f  solve %.1f  move %.1f  "
+                   "sleep %.1f  (one more run, nt_world_get_profile)\n",
+                   name, prof.pairs * per, prof.contacts * per, prof.correct * per, prof.solve * per, prof.move * per,
+                   prof.sleep * per);
         fflush(stdout);
     }
     return CLI_OK;

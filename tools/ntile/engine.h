@@ -37,6 +37,11 @@ extern const engine engine_ntile;
  * with a message on stderr. */
 nt_world *ntile_scene_world(const scene *s, nt_body_id *ids);
 
+/* One more run of the scene (warmed up as bench_run does) with nt_world_enable_profile:
+ * *out receives the phase times summed over its s->steps steps, in milliseconds.
+ * Returns 0 on failure. */
+int ntile_scene_profile(const scene *s, nt_world_profile *out);
+
 /* One scene run on one engine: the timing of `runs` runs; the first also reads every
  * body after every step for the error metrics (outside the timed calls). */
 typedef struct run_result {

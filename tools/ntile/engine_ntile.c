@@ -1,6 +1,7 @@
 /* ntile bench — the ntile builder of a scene (see engine.h). */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "engine.h"
 
 typedef struct ntile_run {
@@ -101,5 +102,30 @@ static void ntile_read(void *p, body_state *out)
 }
 
 static int ntile_awake(void *p) { return nt_world_get_awake_count(((ntile_run *)p)->world); }
+
+int ntile_scene_profile(const scene *s, nt_world_profile *out)
+{
+    memset(out, 0, sizeof *out);
+    ntile_run *r = ntile_create(s, NULL);
+    if (!r) return 0;
+    int ok_ = 1;
+    for (int k = 0; ok_ && k < s->warm_steps; k++) ok_ = ntile_step(r);
+    for (int k = 0; ok_ && k < s->until_asleep && ntile_awake(r) > 0; k++) ok_ = ntile_step(r);
+    nt_world_enable_profile(r->world, true);
+    for (int k = 0; ok_ && k < s->steps; k++)
+        for (int q = 0; ok_ && q < r->substeps; q++) {
+            ok_ = ok(nt_world_step(r->world, r->dt), "nt_world_step");
+            nt_world_profile p = nt_world_get_profile(r->world);
+            out->pairs += p.pairs;
+            out->contacts += p.contacts;
+            out->correct += p.correct;
+            out->solve += p.solve;
+            out->move += p.move;
+            out->sleep += p.sleep;
+            out->step += p.step;
+        }
+    ntile_destroy(r);
+    return ok_;
+}
 
 const engine engine_ntile = {"ntile", ntile_create, ntile_step, ntile_read, ntile_awake, ntile_destroy};
