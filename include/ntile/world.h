@@ -208,7 +208,7 @@ typedef struct nt_world_profile {
 } nt_world_profile;
 
 /// Time each step's phases from now on (enable) or stop (off by default: reading
-/// the clock costs about 0.2 us per step, a lot for a world of a few bodies).
+/// the clock costs about 0.1 us per step, a lot for a world of a few bodies).
 void nt_world_enable_profile(nt_world *world, bool enable);
 
 /// The phase times of the last step (zero while profiling is off).
