@@ -304,40 +304,70 @@ static nt_status append(void **arr, int *count, const void *item, size_t size)
     return NT_OK;
 }
 
-nt_status nt_level_add_body(nt_level *lv, const nt_level_body *b, int *index)
+/* The shared checks of nt_level_add_*: what (e.g. "body"), its name and its problem. */
+static nt_status add_problem(const nt_level *lv, const char *what, const char *name, const char *problem,
+                             nt_text_error *err)
 {
-    if (!lv || !b) return NT_ERR_INVALID_ARGUMENT;
-    if (body_problem(lv, b) || name_taken(lv, b->name)) return NT_ERR_INVALID_ARGUMENT;
-    if (total_instances(lv) + instances_of(b) > NT_LEVEL_MAX_BODIES) return NT_ERR_LIMIT;
-    nt_status s = append((void **)&lv->bodies, &lv->body_count, b, sizeof *b);
-    if (s == NT_OK && index) *index = lv->body_count - 1;
-    return s;
+    if (problem) {
+        /* An invalid name may not even be terminated: it is not quoted back. */
+        if (!nt__valid_name(name)) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "%s: %s", what, problem);
+        return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "%s '%s': %s", what, name, problem);
+    }
+    if (name_taken(lv, name))
+        return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "%s '%s': the name is taken by another object", what, name);
+    return NT_OK;
 }
 
-nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r)
+nt_status nt_level_add_body(nt_level *lv, const nt_level_body *b, int *index, nt_text_error *err)
 {
-    if (!lv || !r) return NT_ERR_INVALID_ARGUMENT;
-    if (region_problem(r) || name_taken(lv, r->name)) return NT_ERR_INVALID_ARGUMENT;
-    if (lv->region_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    return append((void **)&lv->regions, &lv->region_count, r, sizeof *r);
+    if (!lv || !b) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "body: NULL level or body");
+    nt_status s = add_problem(lv, "body", b->name, body_problem(lv, b), err);
+    if (s != NT_OK) return s;
+    if (total_instances(lv) + instances_of(b) > NT_LEVEL_MAX_BODIES)
+        return nt__error_plain(err, NT_ERR_LIMIT, "body '%s': the level would hold more than %d bodies", b->name,
+                               NT_LEVEL_MAX_BODIES);
+    s = append((void **)&lv->bodies, &lv->body_count, b, sizeof *b);
+    if (s != NT_OK) return nt__error_plain(err, s, "body '%s': out of memory", b->name);
+    if (index) *index = lv->body_count - 1;
+    return NT_OK;
 }
 
-nt_status nt_level_add_path(nt_level *lv, const nt_level_path *p, int *index)
+nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r, nt_text_error *err)
 {
-    if (!lv || !p) return NT_ERR_INVALID_ARGUMENT;
-    if (path_problem(p) || name_taken(lv, p->name)) return NT_ERR_INVALID_ARGUMENT;
-    if (lv->path_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    nt_status s = append((void **)&lv->paths, &lv->path_count, p, sizeof *p);
-    if (s == NT_OK && index) *index = lv->path_count - 1;
-    return s;
+    if (!lv || !r) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "region: NULL level or region");
+    nt_status s = add_problem(lv, "region", r->name, region_problem(r), err);
+    if (s != NT_OK) return s;
+    if (lv->region_count >= NT_LEVEL_MAX_OBJECTS)
+        return nt__error_plain(err, NT_ERR_LIMIT, "region '%s': the level already holds %d regions", r->name,
+                               NT_LEVEL_MAX_OBJECTS);
+    s = append((void **)&lv->regions, &lv->region_count, r, sizeof *r);
+    return s == NT_OK ? NT_OK : nt__error_plain(err, s, "region '%s': out of memory", r->name);
 }
 
-nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *s)
+nt_status nt_level_add_path(nt_level *lv, const nt_level_path *p, int *index, nt_text_error *err)
 {
-    if (!lv || !s) return NT_ERR_INVALID_ARGUMENT;
-    if (spawner_problem(lv, s) || name_taken(lv, s->name)) return NT_ERR_INVALID_ARGUMENT;
-    if (lv->spawner_count >= NT_LEVEL_MAX_OBJECTS) return NT_ERR_LIMIT;
-    return append((void **)&lv->spawners, &lv->spawner_count, s, sizeof *s);
+    if (!lv || !p) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "path: NULL level or path");
+    nt_status s = add_problem(lv, "path", p->name, path_problem(p), err);
+    if (s != NT_OK) return s;
+    if (lv->path_count >= NT_LEVEL_MAX_OBJECTS)
+        return nt__error_plain(err, NT_ERR_LIMIT, "path '%s': the level already holds %d paths", p->name,
+                               NT_LEVEL_MAX_OBJECTS);
+    s = append((void **)&lv->paths, &lv->path_count, p, sizeof *p);
+    if (s != NT_OK) return nt__error_plain(err, s, "path '%s': out of memory", p->name);
+    if (index) *index = lv->path_count - 1;
+    return NT_OK;
+}
+
+nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *sp, nt_text_error *err)
+{
+    if (!lv || !sp) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "spawner: NULL level or spawner");
+    nt_status s = add_problem(lv, "spawner", sp->name, spawner_problem(lv, sp), err);
+    if (s != NT_OK) return s;
+    if (lv->spawner_count >= NT_LEVEL_MAX_OBJECTS)
+        return nt__error_plain(err, NT_ERR_LIMIT, "spawner '%s': the level already holds %d spawners", sp->name,
+                               NT_LEVEL_MAX_OBJECTS);
+    s = append((void **)&lv->spawners, &lv->spawner_count, sp, sizeof *sp);
+    return s == NT_OK ? NT_OK : nt__error_plain(err, s, "spawner '%s': out of memory", sp->name);
 }
 
 static int compare_names(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }

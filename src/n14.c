@@ -73,9 +73,10 @@ static void clean_text(char *dst, const char *s, size_t n)
 static nt_status add_body(importer *im, const char *prefix, int kind, nt_level_body *b, int col)
 {
     snprintf(b->name, sizeof b->name, "%s%d", prefix, ++im->counts[kind]);
-    nt_status s = nt_level_add_body(im->lv, b, NULL);
+    nt_text_error e;
+    nt_status s = nt_level_add_body(im->lv, b, NULL, &e);
     if (s == NT_ERR_OUT_OF_MEMORY) return s;
-    if (s != NT_OK) return nt__fail_col(&im->t, col, "cannot add %s: %s", b->name, nt_status_string(s));
+    if (s != NT_OK) return nt__fail_col(&im->t, col, "cannot add %s", e.message);
     return NT_OK;
 }
 
@@ -89,9 +90,10 @@ static nt_status add_region(importer *im, const char *base, nt_region_kind kind,
     r.kind = kind;
     r.lo = nt_v2(c.x - N14_CELL / 2, c.y - N14_CELL / 2);
     r.hi = nt_v2(c.x + N14_CELL / 2, c.y + N14_CELL / 2);
-    nt_status s = nt_level_add_region(im->lv, &r);
+    nt_text_error e;
+    nt_status s = nt_level_add_region(im->lv, &r, &e);
     if (s == NT_ERR_OUT_OF_MEMORY) return s;
-    if (s != NT_OK) return nt__fail_col(&im->t, col, "cannot add region %s: %s", r.name, nt_status_string(s));
+    if (s != NT_OK) return nt__fail_col(&im->t, col, "cannot add %s", e.message);
     return NT_OK;
 }
 

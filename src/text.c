@@ -313,12 +313,20 @@ static int valid_name_n(const char *s, size_t n)
     return 1;
 }
 
-int nt__valid_name(const char *s) { return valid_name_n(s, strlen(s)); }
+/* s is a name field of NT_LEVEL_NAME_MAX bytes, filled by hand perhaps: it must hold
+ * its terminator, and nothing past the field is read. */
+int nt__valid_name(const char *s)
+{
+    const char *end = memchr(s, '\0', NT_LEVEL_NAME_MAX);
+    return end && valid_name_n(s, (size_t)(end - s));
+}
 
 int nt__valid_text(const char *s, size_t cap)
 {
-    size_t n = strlen(s);
-    if (n >= cap) return 0;
+    /* The terminator must lie within the field; nothing past it is read. */
+    const char *end = memchr(s, '\0', cap);
+    if (!end) return 0;
+    size_t n = (size_t)(end - s);
     for (size_t i = 0; i < n; i++) {
         unsigned char c = (unsigned char)s[i];
         if (c < 0x20 || c == 0x7f || c == '"' || c == '\\') return 0;

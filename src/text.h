@@ -99,7 +99,7 @@ int nt__grow_array(void **arr, int count, int *cap, size_t size);
 nt_status nt__expect_fields(nt__text *t, int n, const char *form);
 
 /* A string is a valid name / quoted text. */
-int nt__valid_name(const char *s);
+int nt__valid_name(const char *s); /* s: a name field of NT_LEVEL_NAME_MAX bytes */
 int nt__valid_text(const char *s, size_t cap);
 
 /* ---- output ---- */

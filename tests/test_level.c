@@ -540,7 +540,7 @@ static void test_roundtrip_random(void **state)
         p.center = nt_v2(rreal(-99, 99), rreal(-99, 99));
         p.radius = rreal(0.1, 50);
         if (p.mode == NT_PATH_ORBIT) p.point_count = 0;
-        assert_int_equal(nt_level_add_path(lv, &p, NULL), NT_OK);
+        assert_int_equal(nt_level_add_path(lv, &p, NULL, NULL), NT_OK);
         int nb = (int)(rnd() % 6);
         for (int i = 0; i < nb; i++) {
             nt_level_body b = nt_level_default_body(lv);
@@ -566,7 +566,7 @@ static void test_roundtrip_random(void **state)
                 b.repeat_y = 1 + (int)(rnd() % 4);
                 b.repeat_step = nt_v2(rreal(0, 3) * cs, rreal(-3, 3) * cs);
             }
-            assert_int_equal(nt_level_add_body(lv, &b, NULL), NT_OK);
+            assert_int_equal(nt_level_add_body(lv, &b, NULL, NULL), NT_OK);
             if (b.is_template) {
                 nt_level_spawner s;
                 memset(&s, 0, sizeof s);
@@ -578,7 +578,7 @@ static void test_roundtrip_random(void **state)
                 s.limit = 1 + (int)(rnd() % 50);
                 s.attach = -1;
                 s.jitter = rreal(0, 3);
-                assert_int_equal(nt_level_add_spawner(lv, &s), NT_OK);
+                assert_int_equal(nt_level_add_spawner(lv, &s, NULL), NT_OK);
             }
         }
         nt_level_region rg;
@@ -588,7 +588,7 @@ static void test_roundtrip_random(void **state)
         rg.value = 5;
         rg.lo = nt_v2(rreal(-9, 0), rreal(-9, 0));
         rg.hi = nt_v2(rreal(1, 9), rreal(1, 9));
-        assert_int_equal(nt_level_add_region(lv, &rg), NT_OK);
+        assert_int_equal(nt_level_add_region(lv, &rg, NULL), NT_OK);
         assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
         char *t = write_level(lv);
         roundtrip_text(t);
@@ -642,21 +642,48 @@ static void test_api_validation(void **state)
     nt_level_body b = nt_level_default_body(lv);
     strcpy(b.name, "a");
     b.shape = nt_shape_circle(13);
-    assert_int_equal(nt_level_add_body(lv, &b, NULL), NT_ERR_INVALID_ARGUMENT);
+    nt_text_error ae;
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(ae.message, "body 'a': "));
+    assert_int_equal(lv->body_count, 0);
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, NULL), NT_ERR_INVALID_ARGUMENT); /* no report asked for */
     b.shape = nt_shape_circle(12);
     int index = -1;
-    assert_int_equal(nt_level_add_body(lv, &b, &index), NT_OK);
+    assert_int_equal(nt_level_add_body(lv, &b, &index, &ae), NT_OK);
     assert_int_equal(index, 0);
-    assert_int_equal(nt_level_add_body(lv, &b, NULL), NT_ERR_INVALID_ARGUMENT); /* duplicate name */
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT); /* duplicate name */
+    assert_string_equal(ae.message, "body 'a': the name is taken by another object");
+    assert_int_equal(ae.line, 0);
     strcpy(b.name, "bad name");
-    assert_int_equal(nt_level_add_body(lv, &b, NULL), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(ae.message, "body: invalid name");
+    memset(b.name, 'x', sizeof b.name); /* not even terminated: never quoted back */
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(ae.message, "body: invalid name");
+    assert_int_equal(nt_level_add_body(NULL, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lv->body_count, 1);
     nt_level_region r;
     memset(&r, 0, sizeof r);
     strcpy(r.name, "a");
     r.hi = nt_v2(1, 1);
-    assert_int_equal(nt_level_add_region(lv, &r), NT_ERR_INVALID_ARGUMENT); /* name taken by the body */
+    assert_int_equal(nt_level_add_region(lv, &r, &ae), NT_ERR_INVALID_ARGUMENT); /* name taken by the body */
+    assert_string_equal(ae.message, "region 'a': the name is taken by another object");
     strcpy(r.name, "r");
-    assert_int_equal(nt_level_add_region(lv, &r), NT_OK);
+    assert_int_equal(nt_level_add_region(lv, &r, &ae), NT_OK);
+    nt_level_path pa;
+    memset(&pa, 0, sizeof pa);
+    strcpy(pa.name, "p");
+    pa.point_count = 1; /* a path needs at least two points */
+    assert_int_equal(nt_level_add_path(lv, &pa, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(ae.message, "path 'p': "));
+    assert_int_equal(lv->path_count, 0);
+    nt_level_spawner sp;
+    memset(&sp, 0, sizeof sp);
+    strcpy(sp.name, "s");
+    sp.template_body = 7;
+    assert_int_equal(nt_level_add_spawner(lv, &sp, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(ae.message, "spawner 's': unknown template body");
+    assert_int_equal(lv->spawner_count, 0);
     lv->tiles[4] = 40;
     nt_text_error e;
     assert_int_equal(nt_level_validate(lv, &e), NT_ERR_OUT_OF_RANGE);
@@ -667,6 +694,10 @@ static void test_api_validation(void **state)
     assert_string_equal(e.message, "level: body 'a': mass must be > 0");
     lv->bodies[0].mass = 1;
     assert_int_equal(nt_level_validate(lv, &e), NT_OK);
+    memset(lv->title, 'T', sizeof lv->title); /* unterminated, by hand: rejected, nothing past it read */
+    assert_int_equal(nt_level_validate(lv, &e), NT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(e.message, "title or author"));
+    lv->title[0] = '\0';
     strcpy(lv->regions[0].name, "a"); /* by hand, past the checks of nt_level_add_region */
     assert_int_equal(nt_level_validate(lv, &e), NT_ERR_INVALID_ARGUMENT);
     assert_string_equal(e.message, "level: duplicate name 'a'");

@@ -166,17 +166,20 @@ size_t nt_level_write(const nt_level *level, char *buf, size_t cap);
 /// size). NT_OK or the first problem, described in `error` (no position).
 nt_status nt_level_validate(const nt_level *level, nt_text_error *error);
 
-/// Add a body (copied) to the level; *index (may be NULL) receives its index. Checked as by nt_level_validate.
-nt_status nt_level_add_body(nt_level *level, const nt_level_body *body, int *index);
+/// Add a body (copied) to the level; *index (may be NULL) receives its index. Checked
+/// as by nt_level_validate (its problem described in `error`, which may be NULL; no
+/// position); the level is unchanged on failure.
+nt_status nt_level_add_body(nt_level *level, const nt_level_body *body, int *index, nt_text_error *error);
 
-/// Add a region (copied).
-nt_status nt_level_add_region(nt_level *level, const nt_level_region *region);
+/// Add a region (copied); checked and reported as nt_level_add_body.
+nt_status nt_level_add_region(nt_level *level, const nt_level_region *region, nt_text_error *error);
 
-/// Add a path (copied); *index (may be NULL) receives its index.
-nt_status nt_level_add_path(nt_level *level, const nt_level_path *path, int *index);
+/// Add a path (copied); *index (may be NULL) receives its index. Checked and reported
+/// as nt_level_add_body.
+nt_status nt_level_add_path(nt_level *level, const nt_level_path *path, int *index, nt_text_error *error);
 
-/// Add a spawner (copied).
-nt_status nt_level_add_spawner(nt_level *level, const nt_level_spawner *spawner);
+/// Add a spawner (copied); checked and reported as nt_level_add_body.
+nt_status nt_level_add_spawner(nt_level *level, const nt_level_spawner *spawner, nt_text_error *error);
 
 /// A body with the level's defaults (dynamic 12 x 12 box, mass 1, the level's body
 /// material and drag, category 1, mask all, no path, 1 x 1).

@@ -849,9 +849,10 @@ static nt_status object_path(builder *b, const tl_layer *l, const tl_object *o, 
             p.points[i] = nt_v2((nt_real)(o->x + l->offx + o->points[2 * i]), (nt_real)(o->y + l->offy + o->points[2 * i + 1]));
     }
     int index;
-    s = nt_level_add_path(b->lv, &p, &index);
+    nt_text_error e;
+    s = nt_level_add_path(b->lv, &p, &index, &e);
     if (s == NT_ERR_OUT_OF_MEMORY) return tl_oom(c, b->path);
-    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the path: %s", what, status_text(s));
+    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the %s", what, e.message);
     b->path_ids[index] = o->id;
     return NT_OK;
 }
@@ -884,9 +885,10 @@ static nt_status object_region(builder *b, const tl_layer *l, const tl_object *o
     if ((s = object_name(b, o, what, "region", r.name)) != NT_OK) return s;
     r.lo = nt_v2((nt_real)(o->x + l->offx), (nt_real)(o->y + l->offy));
     r.hi = nt_v2((nt_real)(o->x + l->offx + o->w), (nt_real)(o->y + l->offy + o->h));
-    s = nt_level_add_region(b->lv, &r);
+    nt_text_error e;
+    s = nt_level_add_region(b->lv, &r, &e);
     if (s == NT_ERR_OUT_OF_MEMORY) return tl_oom(c, b->path);
-    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the region: %s", what, status_text(s));
+    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the %s", what, e.message);
     return NT_OK;
 }
 
@@ -986,9 +988,10 @@ static nt_status object_body(builder *b, const tl_layer *l, const tl_object *o, 
         body.path = index;
     }
     if ((s = object_name(b, o, what, "body", body.name)) != NT_OK) return s;
-    s = nt_level_add_body(lv, &body, NULL);
+    nt_text_error e;
+    s = nt_level_add_body(lv, &body, NULL, &e);
     if (s == NT_ERR_OUT_OF_MEMORY) return tl_oom(c, b->path);
-    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the body: %s", what, status_text(s));
+    if (s != NT_OK) return tl_fail(c, o->loc, "%s: cannot add the %s", what, e.message);
     return NT_OK;
 }
 
