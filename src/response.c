@@ -47,14 +47,21 @@ static inline int contact_live(const nt_world *w, const nt__contact *c) { return
 
 /* ---------------------------------------------------------------- 1. collide */
 
-/* Milliseconds of some clock, for the profile (C11's timespec_get: the library has no other). */
+/* Milliseconds of a clock, for the profile: C's timespec_get, the monotonic clock
+ * where the C library has it (C23), else the calendar clock. */
 static double clock_ms(void)
 {
     struct timespec ts;
+#ifdef TIME_MONOTONIC
+    if (!timespec_get(&ts, TIME_MONOTONIC)) return 0;
+#else
     if (!timespec_get(&ts, TIME_UTC)) return 0;
+#endif
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+/* A phase's time; 0 if the calendar clock was set back during it. */
+static inline double phase_ms(double t0, double t1) { return t1 > t0 ? t1 - t0 : 0; }
 
 /* Stable bottom-up merge sort by key; returns the array holding the result. */
 static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
@@ -1088,13 +1095,13 @@ nt_status nt__step(nt_world *w, nt_real dt)
         t[6] = clock_ms();
         t[1] = w->pairs_ms;
         nt_world_profile *p = &w->profile;
-        p->pairs = t[1] - t[0];
-        p->contacts = t[2] - t[1];
-        p->correct = t[3] - t[2];
-        p->solve = t[4] - t[3];
-        p->move = t[5] - t[4];
-        p->sleep = t[6] - t[5];
-        p->step = t[6] - t[0];
+        p->pairs = phase_ms(t[0], t[1]);
+        p->contacts = phase_ms(t[1], t[2]);
+        p->correct = phase_ms(t[2], t[3]);
+        p->solve = phase_ms(t[3], t[4]);
+        p->move = phase_ms(t[4], t[5]);
+        p->sleep = phase_ms(t[5], t[6]);
+        p->step = p->pairs + p->contacts + p->correct + p->solve + p->move + p->sleep;
     }
     w->prev_dt = dt;
     w->counters.body_count = w->body_count;

@@ -535,9 +535,9 @@ static void test_determinism_and_golden_hash(void **state)
     nt_world_destroy(w2);
 }
 
-/* The profile: zero until enabled; then each step's phases, which add up to the
- * step (they are consecutive intervals of one clock), zero again when disabled; the
- * same hash either way (timing never feeds the simulation). */
+/* The profile: zero until enabled; then each step's phases, none negative, adding
+ * up to the step, and some time in all; zero again when disabled; the same hash
+ * either way (timing never feeds the simulation). */
 static void test_profile(void **state)
 {
     (void)state;

@@ -195,8 +195,10 @@ typedef struct nt_world_counters {
 /// Counters of the last step.
 nt_world_counters nt_world_get_counters(const nt_world *world);
 
-/// Wall-clock time of the last step by phase, in milliseconds (C11 timespec_get),
-/// while profiling is on; all zero otherwise. The phases run in this order.
+/// Wall-clock time of the last step by phase, in milliseconds (C's timespec_get:
+/// the monotonic clock with a C23 library, else the calendar clock, where a phase
+/// during which the clock is set back counts 0), while profiling is on; all zero
+/// otherwise. The phases run in this order; `step` is their sum.
 typedef struct nt_world_profile {
     double pairs;    ///< broad phase: body pairs closer than the contact margin
     double contacts; ///< matching them with the last step's: begin/end events, wake-ups
@@ -204,7 +206,7 @@ typedef struct nt_world_profile {
     double solve;    ///< gravity, drag, resting tile contacts, the velocity solver
     double move;     ///< integration and tile resolution of every moving body
     double sleep;    ///< sleep islands
-    double step;     ///< the whole step
+    double step;     ///< the whole step: the sum of the above
 } nt_world_profile;
 
 /// Time each step's phases from now on (enable) or stop (off by default: reading
