@@ -219,9 +219,10 @@ typedef struct nt__proxy {
 } nt__proxy;
 
 /* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold.
- * Everything the pair search and the contact solvers read of a body is in its
- * first 64 bytes (in float builds: one cache line), so that a contact costs one
- * line per body even when the bodies no longer fit in the cache. */
+ * What the pair search and the contact passes read of most bodies (position, size,
+ * velocity, type and flags, generation, awake slot, inverse mass, material, grid
+ * cell) comes first, in the first 64 bytes of float builds; the tile contacts, read
+ * by them only for bodies resting on tiles, come last. */
 typedef struct nt__body {
     nt_vec2 p, half, v;
     int32_t gnext;             /* broad phase: next body in the cell's list */
