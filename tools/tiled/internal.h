@@ -112,6 +112,15 @@ typedef struct tl_map {
     int nlayers;
 } tl_map;
 
+/* Layers as a reader collects them (groups flattened): an arena array that doubles. */
+typedef struct tl_layer_list {
+    tl_layer *v;
+    int n, cap;
+} tl_layer_list;
+
+/* A new zeroed layer at the end of L; NULL when out of memory. */
+tl_layer *tl_new_layer(tl_arena *a, tl_layer_list *L);
+
 /* ---------------------------------------------------------------- one import */
 
 typedef struct tl_ctx {

@@ -268,27 +268,7 @@ static nt_status read_object(const jr *r, const json_t *o, const char *lwhat, tl
     return NT_OK;
 }
 
-typedef struct layer_list {
-    tl_layer *v;
-    int n, cap;
-} layer_list;
-
-static tl_layer *new_layer(const jr *r, layer_list *L)
-{
-    if (L->n == L->cap) {
-        int cap = L->cap ? L->cap * 2 : 8;
-        tl_layer *v = tl_alloc(&r->c->arena, (size_t)cap * sizeof *v);
-        if (!v) return NULL;
-        if (L->n) memcpy(v, L->v, (size_t)L->n * sizeof *v);
-        L->v = v;
-        L->cap = cap;
-    }
-    tl_layer *l = &L->v[L->n++];
-    memset(l, 0, sizeof *l);
-    return l;
-}
-
-static nt_status read_layers(const jr *r, const json_t *arr, double offx, double offy, int depth, layer_list *L)
+static nt_status read_layers(const jr *r, const json_t *arr, double offx, double offy, int depth, tl_layer_list *L)
 {
     if (!json_is_array(arr)) return bad(r, "map", "\"layers\" must be an array, not %s", jtype(arr));
     if (depth > TL_MAX_DEPTH) return bad(r, "map", "group layers nested more than %d deep", TL_MAX_DEPTH);
@@ -311,7 +291,7 @@ static nt_status read_layers(const jr *r, const json_t *arr, double offx, double
             if ((s = read_layers(r, sub, offx + ox, offy + oy, depth + 1, L)) != NT_OK) return s;
             continue;
         }
-        tl_layer *l = new_layer(r, L);
+        tl_layer *l = tl_new_layer(&r->c->arena, L);
         if (!l) return tl_oom(r->c, r->file);
         l->name = name;
         l->loc = floc(r);
@@ -412,7 +392,7 @@ static nt_status read_map(const jr *r, const json_t *root, tl_map *m)
             m->ntilesets++;
         }
     }
-    layer_list L = {NULL, 0, 0};
+    tl_layer_list L = {NULL, 0, 0};
     json_t *layers = json_object_get(root, "layers");
     if (layers && (s = read_layers(r, layers, 0, 0, 0, &L)) != NT_OK) return s;
     m->layers = L.v;

@@ -61,6 +61,21 @@ void *tl_alloc(tl_arena *a, size_t size)
     return p;
 }
 
+tl_layer *tl_new_layer(tl_arena *a, tl_layer_list *L)
+{
+    if (L->n == L->cap) {
+        int cap = L->cap ? L->cap * 2 : 8;
+        tl_layer *v = tl_alloc(a, (size_t)cap * sizeof *v);
+        if (!v) return NULL;
+        if (L->n) memcpy(v, L->v, (size_t)L->n * sizeof *v);
+        L->v = v;
+        L->cap = cap;
+    }
+    tl_layer *l = &L->v[L->n++];
+    memset(l, 0, sizeof *l);
+    return l;
+}
+
 char *tl_strndup(tl_arena *a, const char *s, size_t n)
 {
     if (n == (size_t)-1) return NULL;

@@ -367,27 +367,7 @@ static nt_status read_data(xb *b, const xnode *d, const char *what, tl_layer *l)
     return NT_OK;
 }
 
-typedef struct layer_list {
-    tl_layer *v;
-    int n, cap;
-} layer_list;
-
-static tl_layer *new_layer(xb *b, layer_list *L)
-{
-    if (L->n == L->cap) {
-        int cap = L->cap ? L->cap * 2 : 8;
-        tl_layer *v = tl_alloc(&b->c->arena, (size_t)cap * sizeof *v);
-        if (!v) return NULL;
-        if (L->n) memcpy(v, L->v, (size_t)L->n * sizeof *v);
-        L->v = v;
-        L->cap = cap;
-    }
-    tl_layer *l = &L->v[L->n++];
-    memset(l, 0, sizeof *l);
-    return l;
-}
-
-static nt_status read_layers(xb *b, const xnode *parent, double offx, double offy, int depth, layer_list *L)
+static nt_status read_layers(xb *b, const xnode *parent, double offx, double offy, int depth, tl_layer_list *L)
 {
     if (depth > TL_MAX_DEPTH) return bad(b, parent, "map", "group layers nested more than %d deep", TL_MAX_DEPTH);
     for (const xnode *n = parent->first; n; n = n->next) {
@@ -404,7 +384,7 @@ static nt_status read_layers(xb *b, const xnode *parent, double offx, double off
             if ((s = read_layers(b, n, offx + ox, offy + oy, depth + 1, L)) != NT_OK) return s;
             continue;
         }
-        tl_layer *l = new_layer(b, L);
+        tl_layer *l = tl_new_layer(&b->c->arena, L);
         if (!l) return tl_oom(b->c, b->file);
         l->name = name;
         l->loc = l->data_loc = l->text_loc = n->loc;
@@ -480,7 +460,7 @@ nt_status tl_xml_map(tl_ctx *c, const char *file, const char *text, size_t len, 
         if (!ts->source && (s = read_tiles(&b, k, ts)) != NT_OK) return s;
         m->ntilesets++;
     }
-    layer_list L = {NULL, 0, 0};
+    tl_layer_list L = {NULL, 0, 0};
     if ((s = read_layers(&b, r, 0, 0, 0, &L)) != NT_OK) return s;
     m->layers = L.v;
     m->nlayers = L.n;
