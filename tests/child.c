@@ -101,3 +101,13 @@ void child_free(child_result *r)
     free(r->err);
     r->out = r->err = NULL;
 }
+
+const char *child_ntile(void)
+{
+    const char *exe = getenv("NTILE");
+    if (!exe || !*exe) {
+        print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
+        skip();
+    }
+    return exe;
+}

@@ -24,4 +24,8 @@ void child_run_input(child_result *r, const char *dir, const char *exe, const ch
                      const char *stdin_path, void (*setup)(void *ctx), void *ctx, int bad_status);
 void child_free(child_result *r);
 
+/* The ntile CLI named by $NTILE (make test sets it); the running test is skipped,
+ * with a message saying so, when it is not set. */
+const char *child_ntile(void);
+
 #endif

@@ -63,23 +63,13 @@ typedef struct run_result {
     size_t nlines;
 } run_result;
 
-static const char *ntile_path(void)
-{
-    const char *p = getenv("NTILE");
-    if (!p || !*p) {
-        print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
-        skip();
-    }
-    return p;
-}
-
 /* Run `ntile ARGS...` (NULL-terminated) with standard input from stdin_path (or
  * /dev/null), capturing both outputs; the CLI must not crash, report a sanitizer
  * error or exit above 2. */
 static void run_cli(run_result *r, const char *stdin_path, const char *const *args)
 {
     child_result c;
-    child_run_input(&c, scratch_dir(), ntile_path(), args, stdin_path, NULL, NULL, 3);
+    child_run_input(&c, scratch_dir(), child_ntile(), args, stdin_path, NULL, NULL, 3);
     r->status = c.status;
     r->out = c.out;
     r->out_len = c.out_len;
@@ -574,7 +564,7 @@ static void test_pipe_dialogue(void **state)
     (void)state;
     /* A program drives the CLI through pipes: each answer arrives before the next
      * question is written and before standard input is closed. */
-    const char *exe = ntile_path();
+    const char *exe = child_ntile();
     int to_cli[2], from_cli[2];
     assert_int_equal(pipe(to_cli), 0);
     assert_int_equal(pipe(from_cli), 0);

@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 
 #include "ntile/ntile.h"
+#include "child.h"
 
 #define R(x) ((nt_real)(x))
 static const nt_real DT = R(1.0 / 40);
@@ -64,11 +65,7 @@ static nt_body_id body(nt_world *w, nt_shape s, double x, double y, double vx, d
 static void test_soak_short(void **state)
 {
     (void)state;
-    const char *exe = getenv("NTILE");
-    if (!exe || !*exe) {
-        print_message("NTILE is not set (make test sets it); skipping\n");
-        skip();
-    }
+    const char *exe = child_ntile();
     char cmd[4200];
     snprintf(cmd, sizeof cmd, "'%s' soak --steps 10000 --bodies 300 2>&1", exe);
     FILE *p = popen(cmd, "r");

@@ -46,12 +46,7 @@ typedef child_result run_result;
 /* Run `ntile ARGS...` (NULL-terminated), capturing both outputs. */
 static void run_cli(run_result *r, const char *const *args)
 {
-    const char *exe = getenv("NTILE");
-    if (!exe || !*exe) {
-        print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
-        skip();
-    }
-    child_run(r, scratch_dir(), exe, args, NULL, NULL, 125);
+    child_run(r, scratch_dir(), child_ntile(), args, NULL, NULL, 125);
 }
 
 static void run_free(run_result *r) { child_free(r); }

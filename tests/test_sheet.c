@@ -248,17 +248,6 @@ static xdoc g_fresh, g_committed;
 static xdoc *g_cur = &g_fresh;
 static int g_parsed;
 
-/* The CLI named by NTILE (make test sets it); the test is skipped without it. */
-static const char *ntile_exe(void)
-{
-    const char *exe = getenv("NTILE");
-    if (!exe || !*exe) {
-        print_message("NTILE is not set: it must name the ntile CLI binary (make test sets it); skipping\n");
-        skip();
-    }
-    return exe;
-}
-
 /* In the child, before exec: standard output to the file named by ctx. */
 static void stdout_to(void *ctx)
 {
@@ -270,7 +259,7 @@ static void stdout_to(void *ctx)
  * when the CLI crashes, trips a sanitizer or exits with a status above 2. */
 static void run_checked(child_result *r, const char *out_path, const char *const *args)
 {
-    child_run(r, scratch_dir(), ntile_exe(), args, out_path ? stdout_to : NULL, (void *)out_path, 3);
+    child_run(r, scratch_dir(), child_ntile(), args, out_path ? stdout_to : NULL, (void *)out_path, 3);
 }
 
 static int group_setup(void **state)
@@ -293,7 +282,7 @@ static int group_teardown(void **state)
  * well formed. */
 static void need_sheet(void)
 {
-    (void)ntile_exe();
+    (void)child_ntile();
     if (!g_svg_tried) {
         g_svg_tried = 1;
         const char *path = scratch_path("sheet.svg");
