@@ -5,9 +5,7 @@
 #include "bench.h"
 #include "engine.h"
 
-/* Build, warm up (untimed, then until nothing is awake when the scene asks), and
- * return the world; *warm gets the steps taken. */
-static void *warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
+void *bench_warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
                     body_state *st)
 {
     void *w = e->create(s, set);
@@ -50,7 +48,7 @@ run_result bench_run(const engine *e, const engine_setting *set, const scene *s,
         /* the first run also feeds the metrics: only the steps are timed */
         metrics_tracker *tr = r == 0 ? t : NULL;
         int warm = 0;
-        void *w = warmed(e, set, s, &warm, tr, st);
+        void *w = bench_warmed(e, set, s, &warm, tr, st);
         if (!w) {
             ok = 0;
             break;

@@ -37,7 +37,13 @@ extern const engine engine_ntile;
  * with a message on stderr. */
 nt_world *ntile_scene_world(const scene *s, nt_body_id *ids);
 
-/* One more run of the scene (warmed up as bench_run does) with nt_world_enable_profile:
+/* Build scene s on engine e and warm it up (s->warm_steps steps, then until nothing
+ * is awake when the scene asks); *warm gets the steps taken. With t, every state
+ * goes through the metrics (st: room for s->nbodies). NULL on failure. */
+void *bench_warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
+                   body_state *st);
+
+/* One more run of the scene (warmed up by bench_warmed) with nt_world_enable_profile:
  * *out receives the phase times summed over its s->steps steps, in milliseconds.
  * Returns 0 on failure. */
 int ntile_scene_profile(const scene *s, nt_world_profile *out);

@@ -106,11 +106,10 @@ static int ntile_awake(void *p) { return nt_world_get_awake_count(((ntile_run *)
 int ntile_scene_profile(const scene *s, nt_world_profile *out)
 {
     memset(out, 0, sizeof *out);
-    ntile_run *r = ntile_create(s, NULL);
+    int warm;
+    ntile_run *r = bench_warmed(&engine_ntile, NULL, s, &warm, NULL, NULL);
     if (!r) return 0;
     int ok_ = 1;
-    for (int k = 0; ok_ && k < s->warm_steps; k++) ok_ = ntile_step(r);
-    for (int k = 0; ok_ && k < s->until_asleep && ntile_awake(r) > 0; k++) ok_ = ntile_step(r);
     nt_world_enable_profile(r->world, true);
     for (int k = 0; ok_ && k < s->steps; k++)
         for (int q = 0; ok_ && q < r->substeps; q++) {
