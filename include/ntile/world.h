@@ -209,8 +209,8 @@ typedef struct nt_world_profile {
     double step;     ///< the whole step: the sum of the above
 } nt_world_profile;
 
-/// Time each step's phases from now on (enable) or stop (off by default: reading
-/// the clock costs about 0.1 us per step, a lot for a world of a few bodies).
+/// Time each step's phases from now on (enable) or stop (off by default: the clock
+/// is read seven times a step, which shows in a world of a few bodies).
 void nt_world_enable_profile(nt_world *world, bool enable);
 
 /// The phase times of the last step (zero while profiling is off).
