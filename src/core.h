@@ -213,8 +213,9 @@ typedef struct nt__tile_ct {
 /* An awake body of the broad phase, in a compact array sorted by cell each step so
  * that neighbours are met in memory order. */
 typedef struct nt__proxy {
-    nt_vec2 p, v, half;
-    uint32_t key;              /* cell index y * grid_w + x */
+    nt_vec2 lo, hi;            /* box grown by everything the exact pair test may allow */
+    uint32_t key;              /* y * (grid_w + 1) + x: rows padded by an empty column */
+    uint32_t cell;             /* y * grid_w + x */
     int32_t body;
 } nt__proxy;
 
@@ -302,7 +303,7 @@ struct nt_world {
     int prox_cap;
     nt_real pair_margin, pair_dt; /* the pair search's base margin and step (grid.c) */
     uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
-    uint32_t *radix;           /* 2 x 4096 counters of the proxies' radix sort */
+    uint32_t *radix;           /* 2 x 8192 counters of the proxies' radix sort */
     int grid_w, grid_h;
 
     nt__contact *con, *con_new, *con_tmp, *parked;

@@ -260,10 +260,18 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 }
 
 /* Awake bodies as proxies sorted by cell: a stable radix sort (two passes of half
- * the key's bits each, at most 12: cells < 2^24) of the awake order, so the result
+ * the key's bits each, at most 13: keys < 2^25) of the awake order, so the result
  * is deterministic. Digits no wider than the grid needs keep the scatter's write
  * streams few (256 for a 256 x 256 grid), which matters once the proxies outgrow
- * the cache. */
+ * the cache. Keys number the cells row by row with one empty column after each row,
+ * so the neighbours of a cell are key + 1 and key + stride - 1 .. key + stride + 1
+ * with no test for the map's edges (a key in the padding column holds no proxy).
+ *
+ * A proxy's box is its body's box grown by half the base margin plus its own reach
+ * this step (|v| dt per axis, at most a cell), and a little for rounding: two
+ * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
+ * on the bodies), whose margin is at most a cell and at most the base margin plus
+ * |dv| dt <= (|va| + |vb|) dt. */
 static nt_status build_proxies(nt_world *w, int *count)
 {
     if (w->awake_count > w->prox_cap) {
@@ -277,15 +285,17 @@ static nt_status build_proxies(nt_world *w, int *count)
         w->prox_cap = cap < cap2 ? cap : cap2;
     }
     if (!w->radix) {
-        w->radix = (uint32_t *)nt__alloc(2 * 4096 * sizeof *w->radix);
+        w->radix = (uint32_t *)nt__alloc(2 * 8192 * sizeof *w->radix);
         if (!w->radix) return NT_ERR_OUT_OF_MEMORY;
     }
-    uint32_t *c0 = w->radix, *c1 = w->radix + 4096;
+    uint32_t *c0 = w->radix, *c1 = w->radix + 8192;
+    const uint32_t gw = (uint32_t)w->grid_w, stride = gw + 1u;
     unsigned bits = 2;
-    while (bits < 24 && ((uint32_t)w->grid_w * (uint32_t)w->grid_h - 1u) >> bits) bits++;
+    while (bits < 26 && (stride * (uint32_t)w->grid_h - 1u) >> bits) bits++;
     const unsigned lo = (bits + 1) / 2;
     const uint32_t lo_mask = (1u << lo) - 1u, digits = 1u << lo; /* lo >= bits - lo */
-    memset(w->radix, 0, 2 * 4096 * sizeof *w->radix);
+    memset(w->radix, 0, 2 * 8192 * sizeof *w->radix);
+    const nt_real half_margin = R(0.5) * w->pair_margin, dt = w->pair_dt, cell = w->cell;
     nt__proxy *src = w->prox_tmp;
     int n = 0;
     for (int k = 0; k < w->awake_count; k++) {
@@ -293,10 +303,15 @@ static nt_status build_proxies(nt_world *w, int *count)
         const nt__body *b = &w->bodies[i];
         if (b->gcell < 0) continue;
         nt__proxy *q = &src[n++];
-        q->p = b->p;
-        q->v = b->v;
-        q->half = b->half;
-        q->key = (uint32_t)b->gcell >> 1;
+        /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
+        nt_real slack = R(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * (R(16) * NT_REAL_EPS);
+        nt_real ex = b->half.x + slack + nt__min(half_margin + nt__fabs(b->v.x) * dt, cell);
+        nt_real ey = b->half.y + slack + nt__min(half_margin + nt__fabs(b->v.y) * dt, cell);
+        q->lo = nt_v2(b->p.x - ex, b->p.y - ey);
+        q->hi = nt_v2(b->p.x + ex, b->p.y + ey);
+        uint32_t cellix = (uint32_t)b->gcell >> 1;
+        q->cell = cellix;
+        q->key = cellix + cellix / gw; /* y * stride + x */
         q->body = i;
         c0[q->key & lo_mask]++;
         c1[q->key >> lo]++;
@@ -316,10 +331,10 @@ static nt_status build_proxies(nt_world *w, int *count)
     return NT_OK;
 }
 
-/* Box test with the margin on proxies, then the full test on the bodies. */
+/* Proxy boxes first, then the full test on the bodies. */
 static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy *b)
 {
-    if (!boxes_near(w, a->p, a->half, a->v, b->p, b->half, b->v)) return 1;
+    if (!(a->lo.x < b->hi.x && b->lo.x < a->hi.x && a->lo.y < b->hi.y && b->lo.y < a->hi.y)) return 1;
     return test_pair(w, a->body, b->body);
 }
 
@@ -341,32 +356,27 @@ nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
     nt_status st = build_proxies(w, &n);
     if (st != NT_OK) return st;
     const nt__proxy *P = w->prox_tmp; /* sorted */
-    const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h;
+    const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h, stride = gw + 1u;
     int tests = 0;
     /* Awake pairs: each proxy meets the later ones of its own cell and of the cell to
      * its right (the next keys), and those of the three cells below it, found by a
      * cursor that only moves forward (keys grow, so does the row-below range). */
     int below = 0;
     for (int i = 0; i < n; i++) {
-        uint32_t key = P[i].key, x = key % gw, y = key / gw;
+        uint32_t key = P[i].key;
         int j = i + 1;
-        for (; j < n && P[j].key == key; j++, tests++)
+        for (; j < n && P[j].key <= key + 1u; j++, tests++)
             if (!test_proxies(w, &P[i], &P[j])) return NT_ERR_OUT_OF_MEMORY;
-        if (x + 1 < gw)
-            for (; j < n && P[j].key == key + 1; j++, tests++)
-                if (!test_proxies(w, &P[i], &P[j])) return NT_ERR_OUT_OF_MEMORY;
-        if (y + 1 < gh) {
-            uint32_t lo = key + gw - (x > 0), hi = key + gw + (x + 1 < gw);
-            while (below < n && P[below].key < lo) below++;
-            for (int k = below; k < n && P[k].key <= hi; k++, tests++)
-                if (!test_proxies(w, &P[i], &P[k])) return NT_ERR_OUT_OF_MEMORY;
-        }
+        uint32_t lo = key + stride - 1u, hi = key + stride + 1u;
+        while (below < n && P[below].key < lo) below++;
+        for (int k = below; k < n && P[k].key <= hi; k++, tests++)
+            if (!test_proxies(w, &P[i], &P[k])) return NT_ERR_OUT_OF_MEMORY;
     }
     /* Awake against resting (static and sleeping) bodies: the REST lists of the 9 cells. */
     if (w->grid_rest > 0) {
         for (int i = 0; i < n; i++) {
-            if (!w->rest_near[P[i].key]) continue;
-            int cx = (int)(P[i].key % gw), cy = (int)(P[i].key / gw);
+            if (!w->rest_near[P[i].cell]) continue;
+            int cx = (int)(P[i].cell % gw), cy = (int)(P[i].cell / gw);
             for (int y = cy - 1; y <= cy + 1; y++) {
                 if (y < 0 || y >= (int)gh) continue;
                 for (int x = cx - 1; x <= cx + 1; x++) {
