@@ -332,42 +332,42 @@ nt_status nt_level_add_body(nt_level *lv, const nt_level_body *b, int *index, nt
     return NT_OK;
 }
 
+/* nt_level_add_region, _path and _spawner: the shared checks, the per-kind limit,
+ * then the append (index, when wanted, receives the new one's). */
+static nt_status add_object(nt_level *lv, const char *what, const char *plural, const char *name,
+                            const char *problem, void **arr, int *count, const void *item, size_t size, int *index,
+                            nt_text_error *err)
+{
+    nt_status s = add_problem(lv, what, name, problem, err);
+    if (s != NT_OK) return s;
+    if (*count >= NT_LEVEL_MAX_OBJECTS)
+        return nt__error_plain(err, NT_ERR_LIMIT, "%s '%s': the level already holds %d %s", what, name,
+                               NT_LEVEL_MAX_OBJECTS, plural);
+    s = append(arr, count, item, size);
+    if (s != NT_OK) return nt__error_plain(err, s, "%s '%s': out of memory", what, name);
+    if (index) *index = *count - 1;
+    return NT_OK;
+}
+
 nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r, nt_text_error *err)
 {
     if (!lv || !r) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "region: NULL level or region");
-    nt_status s = add_problem(lv, "region", r->name, region_problem(r), err);
-    if (s != NT_OK) return s;
-    if (lv->region_count >= NT_LEVEL_MAX_OBJECTS)
-        return nt__error_plain(err, NT_ERR_LIMIT, "region '%s': the level already holds %d regions", r->name,
-                               NT_LEVEL_MAX_OBJECTS);
-    s = append((void **)&lv->regions, &lv->region_count, r, sizeof *r);
-    return s == NT_OK ? NT_OK : nt__error_plain(err, s, "region '%s': out of memory", r->name);
+    return add_object(lv, "region", "regions", r->name, region_problem(r), (void **)&lv->regions, &lv->region_count,
+                      r, sizeof *r, NULL, err);
 }
 
 nt_status nt_level_add_path(nt_level *lv, const nt_level_path *p, int *index, nt_text_error *err)
 {
     if (!lv || !p) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "path: NULL level or path");
-    nt_status s = add_problem(lv, "path", p->name, path_problem(p), err);
-    if (s != NT_OK) return s;
-    if (lv->path_count >= NT_LEVEL_MAX_OBJECTS)
-        return nt__error_plain(err, NT_ERR_LIMIT, "path '%s': the level already holds %d paths", p->name,
-                               NT_LEVEL_MAX_OBJECTS);
-    s = append((void **)&lv->paths, &lv->path_count, p, sizeof *p);
-    if (s != NT_OK) return nt__error_plain(err, s, "path '%s': out of memory", p->name);
-    if (index) *index = lv->path_count - 1;
-    return NT_OK;
+    return add_object(lv, "path", "paths", p->name, path_problem(p), (void **)&lv->paths, &lv->path_count, p,
+                      sizeof *p, index, err);
 }
 
 nt_status nt_level_add_spawner(nt_level *lv, const nt_level_spawner *sp, nt_text_error *err)
 {
     if (!lv || !sp) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "spawner: NULL level or spawner");
-    nt_status s = add_problem(lv, "spawner", sp->name, spawner_problem(lv, sp), err);
-    if (s != NT_OK) return s;
-    if (lv->spawner_count >= NT_LEVEL_MAX_OBJECTS)
-        return nt__error_plain(err, NT_ERR_LIMIT, "spawner '%s': the level already holds %d spawners", sp->name,
-                               NT_LEVEL_MAX_OBJECTS);
-    s = append((void **)&lv->spawners, &lv->spawner_count, sp, sizeof *sp);
-    return s == NT_OK ? NT_OK : nt__error_plain(err, s, "spawner '%s': out of memory", sp->name);
+    return add_object(lv, "spawner", "spawners", sp->name, spawner_problem(lv, sp), (void **)&lv->spawners,
+                      &lv->spawner_count, sp, sizeof *sp, NULL, err);
 }
 
 static int compare_names(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }

@@ -190,6 +190,17 @@ static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *
     }
 }
 
+/* con_tmp (just written) becomes con; the old con is the next scratch buffer. */
+static void swap_contact_buffers(nt_world *w)
+{
+    nt__contact *t = w->con;
+    int tc = w->con_cap;
+    w->con = w->con_tmp;
+    w->con_cap = w->con_tmp_cap;
+    w->con_tmp = t;
+    w->con_tmp_cap = tc;
+}
+
 static nt_status collide(nt_world *w, nt_real dt)
 {
     if (w->con_dirty) {
@@ -205,12 +216,7 @@ static nt_status collide(nt_world *w, nt_real dt)
         while (i < ns && j < m) out[k++] = b[j].key < a[i].key ? b[j++] : a[i++];
         while (i < ns) out[k++] = a[i++];
         while (j < m) out[k++] = b[j++];
-        nt__contact *t = w->con;
-        int tc = w->con_cap;
-        w->con = w->con_tmp;
-        w->con_cap = w->con_tmp_cap;
-        w->con_tmp = t;
-        w->con_tmp_cap = tc;
+        swap_contact_buffers(w);
         w->con_dirty = 0;
     }
     nt_status s = nt__grid_find_pairs(w, dt);
@@ -268,13 +274,7 @@ static nt_status collide(nt_world *w, nt_real dt)
             }
         }
     }
-    /* Swap: the merged list becomes current. */
-    nt__contact *t = w->con;
-    int tc = w->con_cap;
-    w->con = w->con_tmp;
-    w->con_cap = w->con_tmp_cap;
-    w->con_tmp = t;
-    w->con_tmp_cap = tc;
+    swap_contact_buffers(w); /* the merged list becomes current */
     w->con_count = k;
     for (int q = 0; q < w->wake_count; q++) {
         int32_t b = w->wake_list[q];
