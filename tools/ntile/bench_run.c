@@ -6,7 +6,7 @@
 #include "engine.h"
 
 void *bench_warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
-                    body_state *st)
+                   body_state *st)
 {
     void *w = e->create(s, set);
     if (!w) return NULL;

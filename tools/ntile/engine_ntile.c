@@ -109,11 +109,11 @@ int ntile_scene_profile(const scene *s, nt_world_profile *out)
     int warm;
     ntile_run *r = bench_warmed(&engine_ntile, NULL, s, &warm, NULL, NULL);
     if (!r) return 0;
-    int ok_ = 1;
+    int stepped = 1;
     nt_world_enable_profile(r->world, true);
-    for (int k = 0; ok_ && k < s->steps; k++)
-        for (int q = 0; ok_ && q < r->substeps; q++) {
-            ok_ = ok(nt_world_step(r->world, r->dt), "nt_world_step");
+    for (int k = 0; stepped && k < s->steps; k++)
+        for (int q = 0; stepped && q < r->substeps; q++) {
+            stepped = ok(nt_world_step(r->world, r->dt), "nt_world_step");
             nt_world_profile p = nt_world_get_profile(r->world);
             out->pairs += p.pairs;
             out->contacts += p.contacts;
@@ -124,7 +124,7 @@ int ntile_scene_profile(const scene *s, nt_world_profile *out)
             out->step += p.step;
         }
     ntile_destroy(r);
-    return ok_;
+    return stepped;
 }
 
 const engine engine_ntile = {"ntile", ntile_create, ntile_step, ntile_read, ntile_awake, ntile_destroy};
