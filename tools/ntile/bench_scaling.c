@@ -133,7 +133,7 @@ int bench_scaling(const bench_opts *opts, int nargs, char **args)
     run_result rain = timed(opts, "rain", 10000), parts = timed(opts, "particles", 10000);
     run_result fr = timed(opts, "free", 10000), touch = timed(opts, "touching", 10000);
     if (!awake.ok || !asleep.ok || !rain.ok || !parts.ok || !fr.ok || !touch.ok) return CLI_USAGE;
-    printf("skip asleep/awake      %8.4f  (pile of 3000: %.2f ns asleep, %.2f ns awake with sleep off)\n",
+    printf("skip asleep/awake      %8.2g  (pile of 3000: %.2g ns asleep, %.2f ns awake with sleep off)\n",
            asleep.ns / awake.ns, asleep.ns, awake.ns);
     printf("skip particles/rain    %8.4f  (10000 bodies: %.2f ns tiles only, %.2f ns with body contacts)\n",
            parts.ns / rain.ns, parts.ns, rain.ns);

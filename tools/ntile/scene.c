@@ -11,6 +11,7 @@
  *   pile       a 64-cell-wide container filled with 3000 bodies (Coulomb friction 0.5,
  *              no bounce), sleep off: dense contact
  *   asleep     that pile with sleep on, stepped until every body sleeps, then timed
+ *              (200 steps, and on until at least 20 ms of steps are timed)
  * Error scenes (each built so that one error has a known right answer):
  *   slide      boxes and circles sliding without friction along a 220-cell FULL floor,
  *              a HALFd floor and down 22/45/67 degree slopes onto flat floors: ghost bumps
@@ -556,6 +557,8 @@ int scene_make(const char *name, int n, scene *out)
         out->warm_steps = 40;
         out->until_asleep = asleep ? 4000 : 0;
         out->steps = asleep ? 200 : 60;
+        /* An asleep step is a microsecond or so: time at least 20 ms of them. */
+        if (asleep) out->min_timed_ms = 20;
         return 1;
     }
     if (strcmp(name, "slide") == 0) return make_slide(out);

@@ -59,6 +59,9 @@ typedef struct scene {
     int warm_steps;      /* untimed steps before timing */
     int until_asleep;    /* keep warming up to this many more steps until nothing is awake */
     int steps;           /* timed steps */
+    double min_timed_ms; /* > 0: keep stepping past `steps` until this much is timed (scenes
+                          * whose state no longer changes: a short window is at the mercy
+                          * of the host's scheduling); metrics cover `steps` only */
     int rest_from;       /* ROLE_REST bodies should be still from this step on (counted from 0) */
     int nbodies;
     scene_body *bodies;
