@@ -102,43 +102,52 @@ static int write_level(const nt_level *lv, const char *out)
     return status;
 }
 
-static int convert_tiled(int argc, char **argv)
+/* The arguments after the format: the input, -o, and for n14 --index and --list. */
+typedef struct convert_args {
+    const char *in, *out;
+    long index; /* from 1 */
+    int list;
+} convert_args;
+
+static int parse_args(int argc, char **argv, int n14, convert_args *a)
 {
-    const char *in = NULL, *out = NULL;
+    a->in = a->out = NULL;
+    a->index = 1;
+    a->list = 0;
     for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (i + 1 >= argc) return usage_error("%s needs a file name", a);
-            out = argv[++i];
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return usage_error("unknown option '%s'", a);
-        } else if (in) {
-            return usage_error("more than one input file ('%s')", a);
+        const char *arg = argv[i];
+        if (strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0) {
+            if (i + 1 >= argc) return usage_error("%s needs a file name", arg);
+            a->out = argv[++i];
+        } else if (n14 && strcmp(arg, "--index") == 0) {
+            char *end;
+            if (i + 1 >= argc) return usage_error("%s needs a number", arg);
+            errno = 0;
+            a->index = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || errno || a->index < 1 || a->index > 1000000000)
+                return usage_error("--index needs a level number from 1, got '%s'", argv[i]);
+        } else if (n14 && strcmp(arg, "--list") == 0) {
+            a->list = 1;
+        } else if (arg[0] == '-' && arg[1] != '\0') {
+            return usage_error("unknown option '%s'", arg);
+        } else if (a->in) {
+            return usage_error("more than one input file ('%s')", arg);
         } else {
-            in = a;
+            a->in = arg;
         }
     }
-    if (!in) return usage_error("%s", "missing the input MAP.tmj or MAP.tmx");
-    if (strcmp(in, "-") == 0) return usage_error("%s", "a Tiled map is read from a file (its tilesets are found beside it), not '-'");
-    char *text;
-    size_t len;
+    if (!a->in) return usage_error("%s", n14 ? "missing the input FILE" : "missing the input MAP.tmj or MAP.tmx");
+    if (!n14 && strcmp(a->in, "-") == 0)
+        return usage_error("%s", "a Tiled map is read from a file (its tilesets are found beside it), not '-'");
+    return CLI_OK;
+}
+
+static int read_input(const char *in, char **text, size_t *len)
+{
     char why[600];
-    if (!cli_read_file(in, &text, &len, why, sizeof why)) {
-        fprintf(stderr, "ntile convert: %s\n", why);
-        return CLI_USAGE;
-    }
-    nt_level *lv = NULL;
-    nt_text_error e;
-    int warnings = 0;
-    nt_status s = tiled_import(in, text, len, &lv, &e, on_warning, &warnings);
-    free(text);
-    if (s != NT_OK) {
-        fprintf(stderr, "%s\n", e.message);
-        return CLI_INPUT_ERRORS;
-    }
-    int status = write_level(lv, out);
-    nt_level_destroy(lv);
-    return status;
+    if (cli_read_file(in, text, len, why, sizeof why)) return CLI_OK;
+    fprintf(stderr, "ntile convert: %s\n", why);
+    return CLI_USAGE;
 }
 
 int cli_convert(int argc, char **argv)
@@ -149,58 +158,34 @@ int cli_convert(int argc, char **argv)
         return CLI_OK;
     }
     if (argc < 2) return usage_error("%s", "missing the format (n14 or tiled)");
-    if (strcmp(argv[1], "tiled") == 0) return convert_tiled(argc, argv);
-    if (strcmp(argv[1], "n14") != 0) return usage_error("unknown format '%s' (this ntile converts n14 and tiled)", argv[1]);
-    const char *in = NULL, *out = NULL;
-    long index = 1;
-    int list = 0;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (i + 1 >= argc) return usage_error("%s needs a file name", a);
-            out = argv[++i];
-        } else if (strcmp(a, "--index") == 0) {
-            char *end;
-            if (i + 1 >= argc) return usage_error("%s needs a number", a);
-            errno = 0;
-            index = strtol(argv[++i], &end, 10);
-            if (end == argv[i] || *end || errno || index < 1 || index > 1000000000)
-                return usage_error("--index needs a level number from 1, got '%s'", argv[i]);
-        } else if (strcmp(a, "--list") == 0) {
-            list = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return usage_error("unknown option '%s'", a);
-        } else if (in) {
-            return usage_error("more than one input file ('%s')", a);
-        } else {
-            in = a;
-        }
-    }
-    if (!in) return usage_error("%s", "missing the input FILE");
+    int n14 = strcmp(argv[1], "n14") == 0;
+    if (!n14 && strcmp(argv[1], "tiled") != 0)
+        return usage_error("unknown format '%s' (this ntile converts n14 and tiled)", argv[1]);
+    convert_args a;
     char *text;
     size_t len;
-    char why[600];
-    if (!cli_read_file(in, &text, &len, why, sizeof why)) {
-        fprintf(stderr, "ntile convert: %s\n", why);
-        return CLI_USAGE;
-    }
-    if (list) {
-        int st = list_levels(in, text, len);
+    int st = parse_args(argc, argv, n14, &a);
+    if (st == CLI_OK) st = read_input(a.in, &text, &len);
+    if (st != CLI_OK) return st;
+    if (a.list) {
+        st = list_levels(a.in, text, len);
         free(text);
         return st;
     }
     nt_level *lv = NULL;
     nt_text_error e;
     int count = 0, warnings = 0;
-    nt_status s = nt_level_import_n14(in, text, len, (int)(index - 1), &lv, &count, &e, on_warning, &warnings);
+    nt_status s = n14 ? nt_level_import_n14(a.in, text, len, (int)(a.index - 1), &lv, &count, &e, on_warning, &warnings)
+                      : tiled_import(a.in, text, len, &lv, &e, on_warning, &warnings);
     free(text);
     if (s != NT_OK) {
         fprintf(stderr, "%s\n", e.message);
         return CLI_INPUT_ERRORS;
     }
-    if (count > 1 && index == 1)
-        fprintf(stderr, "ntile convert: %s holds %d levels; converted the first (choose one with --index N)\n", in, count);
-    int status = write_level(lv, out);
+    if (n14 && count > 1 && a.index == 1)
+        fprintf(stderr, "ntile convert: %s holds %d levels; converted the first (choose one with --index N)\n", a.in,
+                count);
+    st = write_level(lv, a.out);
     nt_level_destroy(lv);
-    return status;
+    return st;
 }
