@@ -355,6 +355,86 @@ static void test_gold_exit_and_regions(void **state)
     nt_level_destroy(lv);
 }
 
+/* Bodies and tiles changed through the game: added bodies count as the game's, bad
+ * input changes nothing, the player cannot be removed, tile edits act at once. */
+static void test_changes_through_the_game(void **state)
+{
+    (void)state;
+    nt_level *lv = level_from(objects_level);
+    lv->regions[1].lo.y = 0; /* no pit */
+    lv->regions[1].hi.y = 10;
+    nt_game *g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    steps(g, 0, 2); /* the level's balls fall into the bin and the drain */
+    assert_int_equal(nt_game_get_state(g).score, 25);
+    int n0 = nt_game_get_bodies(g, NULL, 0), w0 = nt_world_get_body_count(w);
+    uint64_t h0 = nt_game_hash(g);
+
+    nt_body_def d = nt_default_body_def();
+    d.shape = nt_shape_circle(5);
+    d.position = nt_v2(R(NAN), 30);
+    nt_body_id id = nt_game_get_player(g);
+    assert_int_equal(nt_game_add_body(g, &d, &id), NT_ERR_NON_FINITE);
+    assert_true(nt_body_id_is_null(id));
+    assert_int_equal(nt_game_add_body(g, NULL, &id), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_game_add_body(NULL, &d, &id), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0);
+    assert_int_equal(nt_world_get_body_count(w), w0);
+    assert_true(nt_game_hash(g) == h0);
+
+    /* An added ball dropped into the bin scores like the level's balls. */
+    d.position = nt_v2(48, 30);
+    assert_int_equal(nt_game_add_body(g, &d, &id), NT_OK);
+    assert_true(nt_body_is_valid(w, id));
+    assert_int_equal(nt_world_get_body_count(w), w0 + 1);
+    nt_body_id all[64];
+    int n = nt_game_get_bodies(g, all, 64);
+    assert_int_equal(n, n0 + 1);
+    assert_true(nt_body_id_equals(all[n - 1], id)); /* creation order */
+    steps(g, 0, 1);
+    assert_int_equal(nt_game_get_state(g).score, 50);
+    assert_false(nt_body_is_valid(w, id));
+    assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0);
+    assert_int_equal(nt_game_remove_body(g, id), NT_ERR_INVALID_ID);
+
+    /* Removing: a level body once, not twice; never the player; never a body the game
+     * did not make. */
+    nt_body_id coin = nt_game_find_body(g, "coin");
+    assert_false(nt_body_id_is_null(coin));
+    assert_int_equal(nt_game_remove_body(g, coin), NT_OK);
+    assert_false(nt_body_is_valid(w, coin));
+    assert_true(nt_body_id_is_null(nt_game_find_body(g, "coin")));
+    assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0 - 1);
+    assert_int_equal(nt_game_remove_body(g, coin), NT_ERR_INVALID_ID);
+    assert_int_equal(nt_game_remove_body(g, nt_game_get_player(g)), NT_ERR_INVALID_ARGUMENT);
+    assert_true(nt_body_is_valid(w, nt_game_get_player(g)));
+    nt_body_id foreign;
+    assert_int_equal(nt_body_create(w, &d, &foreign), NT_OK);
+    assert_int_equal(nt_game_remove_body(g, foreign), NT_ERR_INVALID_ID);
+    assert_true(nt_body_is_valid(w, foreign));
+    assert_int_equal(nt_game_remove_body(NULL, coin), NT_ERR_INVALID_ARGUMENT);
+
+    /* Tiles: bad cells and tiles are refused and change nothing; opening the floor
+     * cell under the player lets it fall into the hole. */
+    const nt_map *m = nt_world_get_map(w);
+    assert_int_equal(nt_map_get_tile(m, 2, 5), NT_TILE_FULL);
+    assert_int_not_equal(nt_game_set_tile(g, 2, 5, NT_TILE_COUNT), NT_OK);
+    assert_int_not_equal(nt_game_set_tile(g, -1, 5, NT_TILE_EMPTY), NT_OK);
+    assert_int_not_equal(nt_game_set_tile(g, 20, 5, NT_TILE_EMPTY), NT_OK);
+    assert_int_equal(nt_game_set_tile(NULL, 2, 5, NT_TILE_EMPTY), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_map_get_tile(m, 2, 5), NT_TILE_FULL);
+    nt_body_set_position(w, nt_game_get_player(g), nt_v2(60, 110));
+    nt_body_set_velocity(w, nt_game_get_player(g), nt_v2(0, 0));
+    steps(g, 0, 10);
+    assert_true(fabs((double)ppos(g).y - 110) < 0.1); /* standing on the floor */
+    assert_int_equal(nt_game_set_tile(g, 2, 5, NT_TILE_EMPTY), NT_OK);
+    assert_int_equal(nt_map_get_tile(m, 2, 5), NT_TILE_EMPTY);
+    steps(g, 0, 20);
+    assert_true((double)ppos(g).y > 125); /* in the hole, below the floor's top (y 120) */
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
 static void test_death(void **state)
 {
     (void)state;
@@ -703,6 +783,7 @@ int main(void)
         cmocka_unit_test(test_riders_on_moving_platform),
         cmocka_unit_test(test_elevator),
         cmocka_unit_test(test_gold_exit_and_regions),
+        cmocka_unit_test(test_changes_through_the_game),
         cmocka_unit_test(test_death),
         cmocka_unit_test(test_spawners),
         cmocka_unit_test(test_jitter_follows_the_seed),

@@ -111,8 +111,23 @@ void nt_game_destroy(nt_game *game);
 /// Advance one tick of dt seconds (finite, > 0) with the keys held (NT_INPUT_* bits).
 nt_status nt_game_step(nt_game *game, uint32_t keys, nt_real dt);
 
-/// The game's world (for drawing and queries; change it only through the game).
+/// The game's world, for drawing and queries. Change bodies and tiles through the
+/// game (nt_game_add_body, nt_game_remove_body, nt_game_set_tile) so that its records
+/// stay right; setting velocities, impulses or materials directly is fine.
 nt_world *nt_game_get_world(const nt_game *game);
+
+/// Create a body in the game's world and count it as the game's (nt_game_get_bodies,
+/// score and kill regions); it has no level role. On failure (the statuses of
+/// nt_body_create) nothing changes and *out is null.
+nt_status nt_game_add_body(nt_game *game, const nt_body_def *def, nt_body_id *out);
+
+/// Remove a body of the game (level, spawned or added) from the world and the game's
+/// records. NT_ERR_INVALID_ID for a body that is not the game's or no longer exists;
+/// NT_ERR_INVALID_ARGUMENT for the player, whom the controller needs.
+nt_status nt_game_remove_body(nt_game *game, nt_body_id body);
+
+/// Set the tile of cell (x, y) (nt_world_set_tile: edges refreshed, bodies around it woken).
+nt_status nt_game_set_tile(nt_game *game, int x, int y, int tile);
 
 /// The level the game was built from.
 const nt_level *nt_game_get_level(const nt_game *game);

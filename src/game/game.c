@@ -313,6 +313,41 @@ int nt_game_get_bodies(const nt_game *g, nt_body_id *out, int cap)
     return n;
 }
 
+/* ---------------------------------------------------------------- changes */
+
+nt_status nt_game_add_body(nt_game *g, const nt_body_def *def, nt_body_id *out)
+{
+    if (out) *out = nt_null_body_id();
+    if (!g || !def) return NT_ERR_INVALID_ARGUMENT;
+    nt_body_id id;
+    nt_status s = nt_body_create(g->world, def, &id);
+    if (s != NT_OK) return s;
+    s = add_record(g, id, GB_ADDED, -1);
+    if (s != NT_OK) {
+        nt_body_destroy(g->world, id);
+        return s;
+    }
+    if (out) *out = id;
+    return NT_OK;
+}
+
+nt_status nt_game_remove_body(nt_game *g, nt_body_id id)
+{
+    if (!g) return NT_ERR_INVALID_ARGUMENT;
+    game_body *b = nt__game_record(g, id);
+    if (!b || !nt_body_is_valid(g->world, id)) return NT_ERR_INVALID_ID;
+    /* The controller drives the player's body every tick: it stays. */
+    if (b->source == GB_PLAYER) return NT_ERR_INVALID_ARGUMENT;
+    remove_body(g, b);
+    return NT_OK;
+}
+
+nt_status nt_game_set_tile(nt_game *g, int x, int y, int tile)
+{
+    if (!g) return NT_ERR_INVALID_ARGUMENT;
+    return nt_world_set_tile(g->world, x, y, tile);
+}
+
 static bool point_in_region(const nt_level_region *r, nt_vec2 p)
 {
     return p.x >= r->lo.x && p.x <= r->hi.x && p.y >= r->lo.y && p.y <= r->hi.y;

@@ -5,7 +5,7 @@
 #include "ntile/game.h"
 
 /* What made a body. */
-enum { GB_LEVEL = 0, GB_PLAYER = 1, GB_SPAWNED = 2 };
+enum { GB_LEVEL = 0, GB_PLAYER = 1, GB_SPAWNED = 2, GB_ADDED = 3 };
 
 typedef struct game_body {
     nt_body_id id;
