@@ -263,7 +263,6 @@ static nt_status parse_level_file(const char *path, nt_level **out, char *why, s
 
 static void clear_world_extras(pg *p)
 {
-    p->thrown_n = 0;
     p->pair_n = 0;
     p->has_collision = false;
     p->acc = 0;
@@ -353,19 +352,11 @@ int pg__bodies(const pg *p, nt_body_id **out)
 {
     *out = NULL;
     if (!p->game) return 0;
-    nt_world *w = nt_game_get_world(p->game);
     int n = nt_game_get_bodies(p->game, NULL, 0);
-    nt_body_id *ids = malloc(((size_t)n + (size_t)p->thrown_n + 1) * sizeof *ids);
+    nt_body_id *ids = malloc(((size_t)n + 1) * sizeof *ids);
     if (!ids) return 0;
-    n = nt_game_get_bodies(p->game, ids, n);
-    int m = 0;
-    /* Bodies deleted with the mouse stay in the game's list as stale handles. */
-    for (int i = 0; i < n; i++)
-        if (nt_body_is_valid(w, ids[i])) ids[m++] = ids[i];
-    for (int i = 0; i < p->thrown_n; i++)
-        if (nt_body_is_valid(w, p->thrown[i])) ids[m++] = p->thrown[i];
     *out = ids;
-    return m;
+    return nt_game_get_bodies(p->game, ids, n);
 }
 
 void pg__mechanics(const pg *p, double *px, double *py, double *ke)
@@ -990,7 +981,7 @@ static void paint_cell(pg *p, int x, int y)
     if (x < 0 || y < 0 || x >= lv->width || y >= lv->height) return;
     size_t k = (size_t)y * (size_t)lv->width + (size_t)x;
     if (lv->tiles[k] == p->tile) return;
-    if (nt_world_set_tile(nt_game_get_world(p->game), x, y, p->tile) != NT_OK) return;
+    if (nt_game_set_tile(p->game, x, y, p->tile) != NT_OK) return;
     lv->tiles[k] = (uint8_t)p->tile; /* keep the level model in sync: F2 writes it */
     p->dirty = true;
 }
@@ -1015,7 +1006,6 @@ static void paint_to(pg *p, double sx, double sy)
 
 static void throw_body(pg *p, pg_vec from, pg_vec to)
 {
-    nt_world *w = nt_game_get_world(p->game);
     double cs = (double)p->level->cell_size;
     nt_body_def d = nt_default_body_def();
     d.type = NT_BODY_DYNAMIC;
@@ -1026,23 +1016,8 @@ static void throw_body(pg *p, pg_vec from, pg_vec to)
     d.material.friction = (nt_real)p->friction;
     d.material.bounce = (nt_real)p->bounce;
     nt_body_id id;
-    nt_status s = nt_body_create(w, &d, &id);
-    if (s != NT_OK) {
-        say(p, "cannot throw there: %s", nt_status_string(s));
-        return;
-    }
-    if (p->thrown_n == p->thrown_cap) {
-        int cap = p->thrown_cap ? p->thrown_cap * 2 : 64;
-        nt_body_id *nt = realloc(p->thrown, (size_t)cap * sizeof *nt);
-        if (!nt) {
-            nt_body_destroy(w, id);
-            say(p, "out of memory");
-            return;
-        }
-        p->thrown = nt;
-        p->thrown_cap = cap;
-    }
-    p->thrown[p->thrown_n++] = id;
+    nt_status s = nt_game_add_body(p->game, &d, &id);
+    if (s != NT_OK) say(p, "cannot throw there: %s", nt_status_string(s));
 }
 
 typedef struct pick {
@@ -1067,9 +1042,8 @@ static void delete_at(pg *p, double sx, double sy)
         say(p, n > 0 ? "the player cannot be deleted" : "no body there (sensors are not picked)");
         return;
     }
-    nt_body_destroy(w, k.found);
-    for (int i = 0; i < p->thrown_n; i++)
-        if (nt_body_id_equals(p->thrown[i], k.found)) p->thrown[i] = p->thrown[--p->thrown_n];
+    nt_status s = nt_game_remove_body(p->game, k.found);
+    if (s != NT_OK) say(p, "cannot delete that body: %s", nt_status_string(s));
 }
 
 void pg_mouse_move(pg *p, double x, double y)
@@ -1257,7 +1231,6 @@ void pg_destroy(pg *p)
     for (int i = 0; i < p->level_count; i++) free(p->levels[i]);
     free(p->rec_keys);
     free(p->rec_trace);
-    free(p->thrown);
     free(p->prev);
     free(p->prev_gen);
     free(p->pairs);

@@ -51,10 +51,6 @@ struct pg {
     int rec_n, rec_cap;
     bool rec_first_done;
 
-    /* Bodies thrown with the mouse (the game does not know them). */
-    nt_body_id *thrown;
-    int thrown_n, thrown_cap;
-
     /* Tuning of thrown bodies. */
     bool throw_circle;
     double bounce, friction;
@@ -103,7 +99,7 @@ struct pg {
 };
 
 /* play.c helpers render.c uses. */
-int pg__bodies(const pg *p, nt_body_id **out); /* every live body of the game and the thrown ones; caller frees */
+int pg__bodies(const pg *p, nt_body_id **out); /* every live body of the game (thrown ones too); caller frees */
 pg_vec pg__to_screen(const pg *p, double x, double y);
 pg_vec pg__to_world(const pg *p, double x, double y);
 pg_vec pg__player_pos(const pg *p, double alpha); /* interpolated */
