@@ -5,17 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "level_text.h"
 #include "ntile/ntile.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-static char *write_level(const nt_level *l, size_t *n)
-{
-    *n = nt_level_write(l, NULL, 0);
-    char *t = malloc(*n + 1);
-    if (t) nt_level_write(l, t, *n + 1);
-    return t;
-}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -26,14 +19,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     }
     size_t n1, n2;
-    char *t1 = write_level(a, &n1);
-    if (!t1) abort();
+    char *t1 = fuzz_write_level(a, &n1);
     if (nt_level_parse("again.ntl", t1, n1, &b, &err) != NT_OK) {
         fprintf(stderr, "canonical text does not parse: %s\n", err.message);
         abort();
     }
-    char *t2 = write_level(b, &n2);
-    if (!t2 || n1 != n2 || memcmp(t1, t2, n1) != 0) {
+    char *t2 = fuzz_write_level(b, &n2);
+    if (n1 != n2 || memcmp(t1, t2, n1) != 0) {
         fprintf(stderr, "load -> save -> load -> save differs\n");
         abort();
     }
