@@ -195,7 +195,7 @@ enum {
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
-enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4 };
+enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */ };
 /* Body pairs closer than this (in cells) are solved, so that resting contacts never
  * come and go; only overlapping ones count as touching (events, sensors). */
 #define NT__CONTACT_MARGIN R(0.05)
@@ -247,7 +247,13 @@ typedef struct nt__body_cold {
     void *user_data;
     nt_real mass;
     int32_t cprev, cnext;      /* creation order */
+    int32_t park_head;         /* first parked slot naming this body (nt__plink chain), -1: none */
 } nt__body_cold;
+
+/* A parked slot's place in the chains of its two bodies (next[0]: body a's, next[1]: b's). */
+typedef struct nt__plink {
+    int32_t next[2];
+} nt__plink;
 
 /* The velocity solver's copy of a body in a contact (compact, so that the
  * iterations stay in cache however many bodies the world holds). */
@@ -311,6 +317,14 @@ struct nt_world {
     int sort_cap;
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
+    /* Parked contacts (both bodies asleep or static) keep their slots until the array
+     * is compacted; each body chains the slots that name it (nt__body_cold.park_head),
+     * so waking a group costs its own contacts, not every parked one. */
+    nt__plink *park_link;      /* per parked slot */
+    int32_t *park_pick;        /* per parked slot: scratch of nt__unpark */
+    int park_link_cap, park_pick_cap, parked_live;
+    int32_t *woken;            /* bodies woken since the last unpark (capacity body_cap) */
+    int woken_count, woken_lost; /* lost: more than fit; the next unpark scans every slot */
     int con_dirty;             /* con not sorted by key: only its first con_sorted are */
     int con_sorted;
 
@@ -366,7 +380,9 @@ static inline int nt__ifloor(nt_real v) { return nt__floor_int(v); }
 /* world.c */
 void nt__wake(nt_world *w, int32_t i);          /* wake i's sleeping group, restore its contacts */
 void nt__wake_group(nt_world *w, int32_t i);    /* the same without restoring contacts */
-void nt__unpark(nt_world *w);                   /* move parked contacts of awake bodies back */
+void nt__unpark(nt_world *w);                   /* move parked contacts of woken (or dead) bodies back */
+void nt__park(nt_world *w, const nt__contact *c); /* set a contact aside (room reserved by the caller) */
+void nt__compact_parked(nt_world *w);           /* drop the parked slots emptied by nt__unpark */
 void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller links the group) */
 /* Array growth through the allocator hook: returns the (possibly new) array with room
  * for `need` elements and the first `used` kept, or NULL (old array untouched). */

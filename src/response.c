@@ -224,11 +224,24 @@ static nt_status collide(nt_world *w, nt_real dt)
     if (w->profiling) w->pairs_ms = clock_ms();
     int nn = w->con_new_count, no = w->con_count;
     /* Room for everything this step can produce (the merge keeps con and con_tmp
-     * interchangeable, and unparking needs con_count + parked_count). */
-    int need = nn + no + w->parked_count;
+     * interchangeable, and unparking needs con_count + parked_live). */
+    int need = nn + no + w->parked_live;
     GROW(w->con, w->con_count, w->con_cap, need);
     GROW(w->con_tmp, 0, w->con_tmp_cap, need);
-    GROW(w->parked, w->parked_count, w->parked_cap, w->parked_count + no);
+    /* Parked slots for this step's parking. Emptied slots make room first once they
+     * are a quarter of all (compacting costs every slot: not at every wake); else the
+     * arrays grow by half again what they need, so that the wakes after a big group
+     * falls asleep do not each grow them. */
+    int pneed = w->parked_count + no;
+    if (pneed > w->parked_cap && 4 * (w->parked_count - w->parked_live) >= w->parked_count &&
+        w->parked_live < w->parked_count) {
+        nt__compact_parked(w);
+        pneed = w->parked_count + no;
+    }
+    if (pneed > w->parked_cap) pneed += pneed / 2;
+    GROW(w->parked, w->parked_count, w->parked_cap, pneed);
+    GROW(w->park_link, w->parked_count, w->park_link_cap, pneed);
+    GROW(w->park_pick, 0, w->park_pick_cap, pneed);
     GROW(w->ev_begin, 0, w->cap_begin, nn);
     GROW(w->ev_end, 0, w->cap_end, no);
     GROW(w->ev_sbegin, 0, w->cap_sbegin, nn);
@@ -248,7 +261,7 @@ static nt_status collide(nt_world *w, nt_real dt)
             const nt__contact *c = &old[i++];
             const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
             if (contact_live(w, c) && a->awake_slot < 0 && b->awake_slot < 0)
-                w->parked[w->parked_count++] = *c; /* both asleep or static: keep it aside */
+                nt__park(w, c); /* both asleep or static: keep it aside */
             else if (c->flags & NT__CF_TOUCH)
                 end_event(w, c);
         } else if (i >= no || w->con_new[j].key < old[i].key) {

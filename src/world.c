@@ -103,9 +103,11 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     int32_t *sa = (int32_t *)nt__alloc(2 * n * sizeof *sa);
     nt_real *sr = (nt_real *)nt__alloc(2 * n * sizeof *sr);
     int32_t *wl = (int32_t *)nt__alloc(n * sizeof *wl);
+    int32_t *wk = (int32_t *)nt__alloc(n * sizeof *wk);
     nt__svel *sv = (nt__svel *)nt__alloc(n * sizeof *sv);
     nt__stile *st = (nt__stile *)nt__alloc(n * sizeof *st);
-    if (!b || !c || !aw || !sa || !sr || !wl || !sv || !st) {
+    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st) {
+        nt__free(wk);
         nt__free(sv);
         nt__free(st);
         nt__free(b);
@@ -121,14 +123,17 @@ static nt_status reserve_bodies(nt_world *w, int cap)
         memcpy(c, w->cold, (size_t)w->body_hwm * sizeof *c);
     }
     if (w->awake_count > 0) memcpy(aw, w->awake, (size_t)w->awake_count * sizeof *aw);
+    if (w->woken_count > 0) memcpy(wk, w->woken, (size_t)w->woken_count * sizeof *wk);
     nt__free(w->bodies);
     nt__free(w->cold);
     nt__free(w->awake);
     nt__free(w->scratch_a);
     nt__free(w->scratch_r);
     nt__free(w->wake_list);
+    nt__free(w->woken);
     nt__free(w->svel);
     nt__free(w->stile);
+    w->woken = wk;
     w->svel = sv;
     w->stile = st;
     w->bodies = b;
@@ -199,6 +204,9 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->con_new);
     nt__free(w->con_tmp);
     nt__free(w->parked);
+    nt__free(w->park_link);
+    nt__free(w->park_pick);
+    nt__free(w->woken);
     nt__free(w->ev_begin);
     nt__free(w->ev_end);
     nt__free(w->ev_hit);
@@ -450,6 +458,8 @@ void nt__wake_group(nt_world *w, int32_t i)
         bj->sleep_next = -1;
         bj->sleep_time = 0;
         awake_add(w, j);
+        if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = j;
+        else w->woken_lost = 1;
         if (bj->gcell >= 0) {
             bj->glist = NT__LIST_ACTIVE;
             nt__grid_update(w, j);
@@ -480,21 +490,102 @@ static int contact_live_awake(const nt_world *w, const nt__contact *c)
     return ba->awake_slot >= 0 || bb->awake_slot >= 0;
 }
 
+/* Chain parked slot k into the lists of its two bodies. */
+static void park_link(nt_world *w, int k)
+{
+    const nt__contact *c = &w->parked[k];
+    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
+    w->park_link[k].next[0] = w->cold[a].park_head;
+    w->cold[a].park_head = k;
+    w->park_link[k].next[1] = w->cold[b].park_head;
+    w->cold[b].park_head = k;
+}
+
+void nt__park(nt_world *w, const nt__contact *c)
+{
+    /* Room is reserved by the caller: parked_cap and park_link_cap > parked_count. */
+    int k = w->parked_count++;
+    w->parked[k] = *c;
+    w->parked_live++;
+    park_link(w, k);
+}
+
+/* Parked slot k goes back to the contact list; its slot stays, emptied. */
+static void unpark_slot(nt_world *w, int k)
+{
+    /* Room is guaranteed: con_cap >= con_count + parked_live. */
+    if (!w->con_dirty) w->con_sorted = w->con_count; /* the sorted part ends here */
+    w->con[w->con_count++] = w->parked[k];
+    w->con_dirty = 1;
+    w->parked[k].flags |= NT__CF_GONE;
+    w->parked_live--;
+}
+
+static int cmp_slot(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Drop the emptied slots (keeping the order of the others) and chain the rest anew. */
+void nt__compact_parked(nt_world *w)
+{
+    for (int k = 0; k < w->parked_count; k++) {
+        const nt__contact *c = &w->parked[k];
+        w->cold[(int32_t)(c->key >> 32)].park_head = -1;
+        w->cold[(int32_t)(c->key & 0xffffffffu)].park_head = -1;
+    }
+    int n = 0;
+    for (int k = 0; k < w->parked_count; k++)
+        if (!(w->parked[k].flags & NT__CF_GONE)) w->parked[n++] = w->parked[k];
+    w->parked_count = w->parked_live = n;
+    for (int k = 0; k < n; k++) park_link(w, k);
+}
+
+/* Every parked contact with a body awake (or dead) goes back to the contact list.
+ * Only the chains of the bodies woken since the last call are walked: a parked
+ * contact's bodies were both asleep or static when it was parked, only
+ * nt__wake_group wakes a sleeping body (and records it), and a destroyed body is
+ * recorded by nt_body_destroy. Every caller of nt__wake_group unparks right after, so
+ * the record never holds a body twice (else: woken_lost, and every slot is scanned). */
 void nt__unpark(nt_world *w)
 {
-    int k = 0;
-    for (int i = 0; i < w->parked_count; i++) {
-        nt__contact *c = &w->parked[i];
-        if (contact_live_awake(w, c)) {
-            /* Room is guaranteed: con_cap >= con_count + parked_count. */
-            if (!w->con_dirty) w->con_sorted = w->con_count; /* the sorted part ends here */
-            w->con[w->con_count++] = *c;
-            w->con_dirty = 1;
-        } else {
-            w->parked[k++] = *c;
+    if (w->woken_lost) {
+        for (int k = 0; k < w->parked_count; k++)
+            if (!(w->parked[k].flags & NT__CF_GONE) && contact_live_awake(w, &w->parked[k])) unpark_slot(w, k);
+    } else {
+        /* The slots to move back, picked from the chains, go back in slot order: the
+         * contacts are used in list order until the next step sorts them, so the
+         * order must not depend on which chain reached a slot first. */
+        int n = 0;
+        for (int q = 0; q < w->woken_count; q++) {
+            int32_t j = w->woken[q];
+            int32_t *link = &w->cold[j].park_head;
+            while (*link >= 0) {
+                int k = *link;
+                nt__contact *c = &w->parked[k];
+                int32_t *next = &w->park_link[k].next[(int32_t)(c->key >> 32) == j ? 0 : 1];
+                if (!(c->flags & NT__CF_GONE) && !contact_live_awake(w, c)) {
+                    link = next; /* stays parked (cannot happen: j is awake or dead) */
+                    continue;
+                }
+                if (!(c->flags & NT__CF_GONE)) {
+                    c->flags |= NT__CF_GONE; /* picked; unpark_slot sets it again */
+                    w->park_pick[n++] = k;
+                }
+                *link = *next; /* out of j's chain */
+            }
+        }
+        if (n > 1) qsort(w->park_pick, (size_t)n, sizeof *w->park_pick, cmp_slot);
+        for (int q = 0; q < n; q++) {
+            w->parked[w->park_pick[q]].flags &= ~(uint32_t)NT__CF_GONE;
+            unpark_slot(w, w->park_pick[q]);
         }
     }
-    w->parked_count = k;
+    w->woken_count = 0;
+    w->woken_lost = 0;
+    /* Emptied slots are dropped once they are the majority: amortised O(1) a contact. */
+    if (w->parked_count - w->parked_live > w->parked_live && w->parked_count > 64) nt__compact_parked(w);
 }
 
 void nt__wake(nt_world *w, int32_t i)
@@ -624,6 +715,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     c->mass = def->type == NT_BODY_DYNAMIC ? def->mass : 0;
     c->cprev = w->last;
     c->cnext = -1;
+    c->park_head = -1;
     if (w->last >= 0) w->cold[w->last].cnext = i;
     else w->first = i;
     w->last = i;
@@ -645,6 +737,7 @@ static void wake_partners(nt_world *w, int32_t i)
         const nt__contact *cs = pass ? w->parked : w->con;
         int n = pass ? w->parked_count : w->con_count;
         for (int k = 0; k < n; k++) {
+            if (pass && (cs[k].flags & NT__CF_GONE)) continue;
             int32_t a = (int32_t)(cs[k].key >> 32), b = (int32_t)(cs[k].key & 0xffffffffu);
             if (a == i) nt__wake_group(w, b);
             else if (b == i) nt__wake_group(w, a);
@@ -672,7 +765,10 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     if (c->cnext >= 0) w->cold[c->cnext].cprev = c->cprev;
     else w->last = c->cprev;
     w->body_count--;
-    nt__unpark(w); /* its parked contacts go back to give end events */
+    /* Its parked contacts go back to give end events: its chain is walked. */
+    if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = i;
+    else w->woken_lost = 1;
+    nt__unpark(w);
     return NT_OK;
 }
 

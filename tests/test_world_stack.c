@@ -280,6 +280,93 @@ static void test_sleeping_group(void **state)
 }
 
 /* Asleep bodies cost nothing: the simulated count is what is awake. */
+/* Parked contacts (both bodies asleep) follow their bodies: many two-box stacks fall
+ * asleep, then one at a time is woken, loses its top or gets a new one. The contact
+ * events must tell the story the model does: a stack's pair begins once when a top
+ * lands and ends once when it goes; a wake neither begins nor ends it (a contact lost
+ * while parked would be found again and begin a second time). */
+enum { NSTACK = 24 };
+
+typedef struct stacks {
+    nt_body_id bottom[NSTACK], top[NSTACK], touching_top[NSTACK];
+    bool touching[NSTACK];
+} stacks;
+
+static int stack_of(const stacks *st, nt_body_id a, nt_body_id b, bool ending)
+{
+    for (int k = 0; k < NSTACK; k++) {
+        nt_body_id t = ending ? st->touching_top[k] : st->top[k];
+        if ((nt_body_id_equals(a, st->bottom[k]) && nt_body_id_equals(b, t)) ||
+            (nt_body_id_equals(b, st->bottom[k]) && nt_body_id_equals(a, t)))
+            return k;
+    }
+    return -1;
+}
+
+static void step_checking_events(nt_world *w, stacks *st)
+{
+    assert_int_equal(nt_world_step(w, DT), NT_OK);
+    nt_contact_events ev = nt_world_get_contact_events(w);
+    for (int i = 0; i < ev.end_count; i++) {
+        int k = stack_of(st, ev.end_events[i].a, ev.end_events[i].b, true);
+        if (k < 0 || !st->touching[k]) fail_msg("end event for a pair that was not touching (stack %d)", k);
+        st->touching[k] = false;
+    }
+    for (int i = 0; i < ev.begin_count; i++) {
+        int k = stack_of(st, ev.begin_events[i].a, ev.begin_events[i].b, false);
+        if (k < 0) fail_msg("begin event for bodies of no stack");
+        if (st->touching[k]) fail_msg("stack %d: begin event for a pair already touching", k);
+        st->touching[k] = true;
+        st->touching_top[k] = st->top[k];
+    }
+}
+
+static nt_body_id new_top(nt_world *w, int k)
+{
+    return add(w, nt_shape_aabb(R(0.3), R(0.3)), 2 + 3 * k + 0.5, 5 - 0.3 - 0.62, 1, R(0.5));
+}
+
+static void test_parked_contacts_follow_their_bodies(void **state)
+{
+    (void)state;
+    int W = 3 * NSTACK + 4;
+    nt_world *w = make_world(W, 6, NT_FRICTION_COULOMB, R(0.5), true);
+    floor_and_walls(w, W, 6);
+    stacks st;
+    memset(&st, 0, sizeof st);
+    for (int k = 0; k < NSTACK; k++) {
+        st.bottom[k] = add(w, nt_shape_aabb(R(0.3), R(0.3)), 2 + 3 * k + 0.5, 5 - 0.3, 1, R(0.5));
+        st.top[k] = new_top(w, k);
+    }
+    uint64_t rng = 99;
+    int destroys = 0, creates = 0, wakes = 0;
+    for (int round = 0; round < 150; round++) {
+        int steps = 0;
+        do {
+            step_checking_events(w, &st);
+        } while (nt_world_get_awake_count(w) > 0 && ++steps < 3000);
+        assert_int_equal(nt_world_get_awake_count(w), 0);
+        for (int k = 0; k < NSTACK; k++)
+            if (st.touching[k] != !nt_body_id_is_null(st.top[k])) fail_msg("round %d: stack %d out of step", round, k);
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        int k = (int)((rng >> 33) % NSTACK), action = (int)((rng >> 50) % 3);
+        if (nt_body_id_is_null(st.top[k])) {
+            st.top[k] = new_top(w, k);
+            creates++;
+        } else if (action == 0) {
+            assert_int_equal(nt_body_destroy(w, st.top[k]), NT_OK);
+            st.top[k] = nt_null_body_id();
+            destroys++;
+        } else {
+            assert_int_equal(nt_body_set_awake(w, action == 1 ? st.bottom[k] : st.top[k], true), NT_OK);
+            wakes++;
+        }
+    }
+    /* Every kind of change happened, many times over. */
+    assert_true(destroys >= 20 && creates >= 20 && wakes >= 40);
+    nt_world_destroy(w);
+}
+
 static void test_asleep_bodies_are_not_simulated(void **state)
 {
     (void)state;
@@ -306,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_wake_on_tile_edit_and_api),
         cmocka_unit_test(test_sleeping_group),
         cmocka_unit_test(test_asleep_bodies_are_not_simulated),
+        cmocka_unit_test(test_parked_contacts_follow_their_bodies),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
