@@ -139,9 +139,15 @@ struct nt_map {
     uint64_t *open3;
 };
 
+/* (x, y) is a cell of the map: one unsigned comparison per axis (w, h > 0). */
+static inline int nt__map_in(const nt_map *map, int x, int y)
+{
+    return (unsigned)x < (unsigned)map->w && (unsigned)y < (unsigned)map->h;
+}
+
 static inline int nt__map_open3(const nt_map *map, int x, int y)
 {
-    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return 0;
+    if (!nt__map_in(map, x, y)) return 0;
     size_t i = (size_t)y * (size_t)map->w + (size_t)x;
     return (int)((map->open3[i >> 6] >> (i & 63)) & 1u);
 }
@@ -151,7 +157,7 @@ nt__cell nt__map_cell(const nt_map *map, int x, int y);
 
 static inline int nt__map_tile(const nt_map *map, int x, int y)
 {
-    if (x < 0 || y < 0 || x >= map->w || y >= map->h) return NT_TILE_FULL;
+    if (!nt__map_in(map, x, y)) return NT_TILE_FULL;
     return map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile;
 }
 

@@ -228,11 +228,10 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 /* Gather the masked per-tile candidates at p. Returns the number of overlapped
  * tiles; *nc receives the number of candidates, *lb the deepest unmasked single-tile
  * depth (no way out of the union is shorter), or -1 when a masked tile overlaps. */
-static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, unsigned use_masks, cand *cs, int *nc,
-                  int *all_convex, int *present, nt_real *lb)
+static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], unsigned use_masks, cand *cs,
+                  int *nc, int *all_convex, int *present, nt_real *lb)
 {
-    int x0, y0, x1, y1;
-    cell_range(p, h, &x0, &y0, &x1, &y1);
+    const int x0 = r4[0], y0 = r4[1], x1 = r4[2], y1 = r4[3];
     int overlapped = 0, inside = x0 >= 0 && y0 >= 0 && x1 < map->w && y1 < map->h;
     *nc = 0;
     *all_convex = 1;
@@ -322,7 +321,7 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
 
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
-static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc,
+static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], const cand *cs, int nc,
                           int overlapped, int all_convex, int present, nt_real lb, nt_resolution *out, nt_real *lower)
 {
     /* Fast certificate: every overlapped tile pushes the same way and is convex, so
@@ -339,9 +338,9 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
         }
         if (same) {
             nt_vec2 q = nt_v2(p.x + cs[deepest].nx * cs[deepest].depth, p.y + cs[deepest].ny * cs[deepest].depth);
-            int a0, b0, a1, b1, c0, d0, c1, d1, clear = 1;
+            int c0, d0, c1, d1, clear = 1;
+            const int a0 = r4[0], b0 = r4[1], a1 = r4[2], b1 = r4[3];
             cell_range(q, h, &c0, &d0, &c1, &d1);
-            cell_range(p, h, &a0, &b0, &a1, &b1);
             /* Every tile in range was overlapped and no new cell comes into range:
              * nothing else to test. */
             int same_range = all_convex && nc == present && c0 >= a0 && d0 >= b0 && c1 <= a1 && d1 <= b1;
@@ -722,11 +721,13 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         if (out) *out = res;
         return true;
     }
-    int overlapped = gather(map, p, shape, h, 1u, cs, &nc, &all_convex, &present, &lb);
+    int r4[4];
+    cell_range(p, h, &r4[0], &r4[1], &r4[2], &r4[3]);
+    int overlapped = gather(map, p, shape, h, r4, 1u, cs, &nc, &all_convex, &present, &lb);
     if (overlapped == 0) return false;
 
     nt_real lower = 0;
-    int found = best_candidate(map, p, shape, h, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
+    int found = best_candidate(map, p, shape, h, r4, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
     nt_real len = found ? nt__len(res.push) : R(0.8);

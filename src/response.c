@@ -333,13 +333,16 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
     return worst;
 }
 
-/* True when every cell the box's range covers is an EMPTY cell of the map. Out of
- * line: most bodies in the air are answered by the 3 x 3 test before it. */
-NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h)
+/* True when every cell the box's range covers is an EMPTY cell of the map; (cx, cy) is
+ * the cell of its centre. A body is at most half a cell, so each end of its range is
+ * that cell or the one next to it: a comparison finds which, where a floor would cost
+ * a conversion each. Out of line: most bodies in the air are answered by the 3 x 3
+ * test before it. */
+NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h, int cx, int cy)
 {
     nt_real ic = w->inv_cell;
-    int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
-    int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
+    int x0 = cx - ((p.x - h.x) * ic < (nt_real)cx), x1 = cx + ((p.x + h.x) * ic >= (nt_real)(cx + 1));
+    int y0 = cy - ((p.y - h.y) * ic < (nt_real)cy), y1 = cy + ((p.y + h.y) * ic >= (nt_real)(cy + 1));
     const nt_map *m = w->map;
     if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
     for (int y = y0; y <= y1; y++) {
@@ -356,8 +359,9 @@ NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h)
 static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
 {
     nt_real ic = w->inv_cell;
-    if (nt__map_open3(w->map, nt__ifloor(p.x * ic), nt__ifloor(p.y * ic))) return 1;
-    return open_range(w, p, h);
+    int cx = nt__ifloor(p.x * ic), cy = nt__ifloor(p.y * ic);
+    if (nt__map_open3(w->map, cx, cy)) return 1;
+    return open_range(w, p, h, cx, cy);
 }
 
 /* The tile resolution of a body that is not in open air (see resolve_body). */
@@ -1012,6 +1016,8 @@ static void update_sleep(nt_world *w, nt_real dt)
     int32_t *parent = w->scratch_a, *head = w->scratch_a + w->body_cap;
     nt_real *tmin = w->scratch_r;
     int candidates = 0;
+    /* With no body contacts every body is an island of its own: no union-find. */
+    const int islands = w->con_count > 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
@@ -1019,11 +1025,28 @@ static void update_sleep(nt_world *w, nt_real dt)
         if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
         else b->sleep_time += dt;
         if (b->sleep_time >= w->def.sleep_time) candidates++;
-        parent[i] = i;
-        head[i] = -1;
-        tmin[i] = NT_REAL_MAX;
+        if (islands) {
+            parent[i] = i;
+            head[i] = -1;
+            tmin[i] = NT_REAL_MAX;
+        }
     }
     if (candidates == 0) return;
+    if (!islands) {
+        /* Gather first (sleeping reorders the awake array), then sleep alone. */
+        int32_t *list = w->wake_list;
+        int n = 0;
+        for (int k = 0; k < w->awake_count; k++) {
+            int32_t i = w->awake[k];
+            const nt__body *b = &w->bodies[i];
+            if (b->type == NT_BODY_DYNAMIC && b->sleep_time >= w->def.sleep_time) list[n++] = i;
+        }
+        for (int q = 0; q < n; q++) {
+            nt__sleep_body(w, list[q]);
+            w->bodies[list[q]].sleep_next = list[q];
+        }
+        return;
+    }
     /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
     for (int k = 0; k < w->con_count; k++) {
         const nt__contact *c = &w->con[k];
