@@ -225,9 +225,11 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
     return worst;
 }
 
-/* Gather the masked per-tile candidates at p. Returns the number of overlapped
- * tiles; *nc receives the number of candidates, *lb the deepest unmasked single-tile
- * depth (no way out of the union is shorter), or -1 when a masked tile overlaps. */
+/* Gather the masked per-tile candidates at p, whose cell range (x0, y0, x1, y1) the
+ * caller found once in r4 (best_candidate uses it too). Returns the number of
+ * overlapped tiles; *nc receives the number of candidates, *lb the deepest unmasked
+ * single-tile depth (no way out of the union is shorter), or -1 when a masked tile
+ * overlaps. */
 static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], unsigned use_masks, cand *cs,
                   int *nc, int *all_convex, int *present, nt_real *lb)
 {
