@@ -447,6 +447,13 @@ static void awake_remove(nt_world *w, int32_t i)
     w->bodies[i].awake_slot = -1;
 }
 
+/* Record body i (woken, or destroyed) for the next nt__unpark, which walks its chain. */
+static void note_woken(nt_world *w, int32_t i)
+{
+    if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = i;
+    else w->woken_lost = 1; /* the next unpark scans every slot */
+}
+
 void nt__wake_group(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
@@ -458,8 +465,7 @@ void nt__wake_group(nt_world *w, int32_t i)
         bj->sleep_next = -1;
         bj->sleep_time = 0;
         awake_add(w, j);
-        if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = j;
-        else w->woken_lost = 1;
+        note_woken(w, j);
         if (bj->gcell >= 0) {
             bj->glist = NT__LIST_ACTIVE;
             nt__grid_update(w, j);
@@ -730,19 +736,28 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     return NT_OK;
 }
 
-/* Wake every body in contact with body i (contacts listed or parked). */
+/* Wake the other body of contact c, which names body i. */
+static void wake_other(nt_world *w, const nt__contact *c, int32_t i)
+{
+    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
+    if (a == i) nt__wake_group(w, b);
+    else if (b == i) nt__wake_group(w, a);
+}
+
+/* Wake every body in contact with body i: its listed contacts, then its parked ones
+ * through its chain, in slot order (the order a scan of every slot would wake them
+ * in, so the awake order does not depend on the chain's). */
 static void wake_partners(nt_world *w, int32_t i)
 {
-    for (int pass = 0; pass < 2; pass++) {
-        const nt__contact *cs = pass ? w->parked : w->con;
-        int n = pass ? w->parked_count : w->con_count;
-        for (int k = 0; k < n; k++) {
-            if (pass && (cs[k].flags & NT__CF_GONE)) continue;
-            int32_t a = (int32_t)(cs[k].key >> 32), b = (int32_t)(cs[k].key & 0xffffffffu);
-            if (a == i) nt__wake_group(w, b);
-            else if (b == i) nt__wake_group(w, a);
-        }
+    for (int k = 0; k < w->con_count; k++) wake_other(w, &w->con[k], i);
+    int n = 0;
+    for (int32_t k = w->cold[i].park_head; k >= 0;) {
+        const nt__contact *c = &w->parked[k];
+        if (!(c->flags & NT__CF_GONE)) w->park_pick[n++] = k; /* room: a slot appears once */
+        k = w->park_link[k].next[(int32_t)(c->key >> 32) == i ? 0 : 1];
     }
+    if (n > 1) qsort(w->park_pick, (size_t)n, sizeof *w->park_pick, cmp_slot);
+    for (int q = 0; q < n; q++) wake_other(w, &w->parked[w->park_pick[q]], i);
 }
 
 nt_status nt_body_destroy(nt_world *w, nt_body_id id)
@@ -766,8 +781,7 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     else w->last = c->cprev;
     w->body_count--;
     /* Its parked contacts go back to give end events: its chain is walked. */
-    if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = i;
-    else w->woken_lost = 1;
+    note_woken(w, i);
     nt__unpark(w);
     return NT_OK;
 }
