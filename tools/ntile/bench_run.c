@@ -5,36 +5,31 @@
 #include "bench.h"
 #include "engine.h"
 
+/* One untimed step, counted in *warm and tracked by t (when given). */
+static int warm_step(const engine *e, void *w, int *warm, metrics_tracker *t, body_state *st)
+{
+    if (!e->step(w)) return 0;
+    (*warm)++;
+    if (t) {
+        e->read(w, st);
+        metrics_step(t, st);
+    }
+    return 1;
+}
+
 void *bench_warmed(const engine *e, const engine_setting *set, const scene *s, int *warm, metrics_tracker *t,
                    body_state *st)
 {
     void *w = e->create(s, set);
     if (!w) return NULL;
     *warm = 0;
-    for (int k = 0; k < s->warm_steps; k++, (*warm)++) {
-        if (!e->step(w)) goto fail;
-        if (t) {
-            e->read(w, st);
-            metrics_step(t, st);
-        }
-    }
-    for (int k = 0; k < s->until_asleep && e->awake(w) > 0; k++, (*warm)++) {
-        if (!e->step(w)) goto fail;
-        if (t) {
-            e->read(w, st);
-            metrics_step(t, st);
-        }
-    }
+    for (int k = 0; k < s->warm_steps; k++)
+        if (!warm_step(e, w, warm, t, st)) goto fail;
+    for (int k = 0; k < s->until_asleep && e->awake(w) > 0; k++)
+        if (!warm_step(e, w, warm, t, st)) goto fail;
     /* And one step more: the step after the last body falls asleep puts its contacts
      * aside (ntile parks them then), a one-off that belongs to falling asleep. */
-    if (s->until_asleep > 0 && e->awake(w) == 0) {
-        if (!e->step(w)) goto fail;
-        (*warm)++;
-        if (t) {
-            e->read(w, st);
-            metrics_step(t, st);
-        }
-    }
+    if (s->until_asleep > 0 && e->awake(w) == 0 && !warm_step(e, w, warm, t, st)) goto fail;
     return w;
 fail:
     e->destroy(w);
