@@ -75,6 +75,14 @@ static run_result timed(const bench_opts *opts, const char *name, int n)
     return r;
 }
 
+/* Step until nothing is awake (at most 5000 steps), then once more: the step that sets
+ * the sleepers' contacts aside, a one-off that belongs to falling asleep. */
+static void settle(nt_world *w, nt_real dt)
+{
+    for (int k = 0; k < 5000 && nt_world_get_awake_count(w) > 0; k++) nt_world_step(w, dt);
+    nt_world_step(w, dt);
+}
+
 /* Median time (microseconds) of waking one two-box stack and stepping once, in a world
  * of `shelves` x 99 such stacks all asleep (Coulomb 0.5, 1/60 s): what a wake costs
  * next to the sleeping bodies it does not touch. NAN when the world cannot be built. */
@@ -111,16 +119,14 @@ static double wake_cost(int shelves, int *bodies)
     }
     const nt_real dt = (nt_real)(1.0 / 60);
     nt_world_step(w, dt);
-    for (int k = 0; k < 5000 && nt_world_get_awake_count(w) > 0; k++) nt_world_step(w, dt);
-    nt_world_step(w, dt); /* the step that sets the sleepers' contacts aside */
+    settle(w, dt);
     double us[WAKES];
     for (int q = 0; q < WAKES; q++) {
         double t0 = bench_now_ns();
         nt_body_set_awake(w, ids[(q * 7919) % n], true);
         nt_world_step(w, dt);
         us[q] = (bench_now_ns() - t0) * 1e-3;
-        for (int k = 0; k < 5000 && nt_world_get_awake_count(w) > 0; k++) nt_world_step(w, dt);
-        nt_world_step(w, dt);
+        settle(w, dt);
     }
     nt_world_destroy(w);
     free(ids);
