@@ -26,6 +26,10 @@ extern "C" {
 /// Largest map side in cells.
 #define NT_MAP_MAX_SIDE 4096
 
+/// Largest half-size (or radius) of a body or a resolved object, in cells: a body
+/// can be up to 8 cells across. Larger shapes are refused with NT_ERR_SHAPE_TOO_LARGE.
+#define NT_MAX_HALF_CELLS 4
+
 typedef struct nt_map nt_map;
 
 /// Edge states, as in N.
