@@ -435,6 +435,9 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 /* response.c */
 nt_status nt__step(nt_world *w, nt_real dt);
 
+/* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
+bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);
+
 /* Both bodies of a contact are still the ones it was made for. */
 static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)
 {

@@ -1079,14 +1079,23 @@ uint64_t nt_world_hash(const nt_world *w)
 nt_query_filter nt_default_query_filter(void)
 {
     nt_query_filter f;
+    memset(&f, 0, sizeof f);
     f.mask = 0xffffffffu;
     f.tiles = true;
     return f;
 }
 
-static int query_sees(const nt__body *b, nt_query_filter f)
+/* The filter's mask, ignore list and callback, in that order (cheapest first). */
+bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f)
 {
-    return !(b->flags & NT__BF_SENSOR) && (b->category & f.mask) != 0;
+    const nt__body *b = &w->bodies[i];
+    if ((b->flags & NT__BF_SENSOR) || (b->category & f->mask) == 0) return false;
+    int n = f->ignore_count < NT_QUERY_IGNORE_MAX ? f->ignore_count : NT_QUERY_IGNORE_MAX;
+    if (n <= 0 && !f->accept) return true;
+    nt_body_id id = make_id(w, i);
+    for (int k = 0; k < n; k++)
+        if (nt_body_id_equals(id, f->ignore[k])) return false;
+    return !f->accept || f->accept(id, f->accept_context);
 }
 
 /* Segment p0 + t d (t in [0, 1]) entering a body's interior: first t and normal. */
@@ -1170,7 +1179,7 @@ static void ray_cell(const nt_world *w, const ray_level *L, int32_t cell, nt_vec
     for (int list = 0; list < 2; list++)
         for (int32_t j = L->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
             const nt__body *b = &w->bodies[j];
-            if (!query_sees(b, filter)) continue;
+            if (!nt__query_sees(w, j, &filter)) continue;
             nt_real t;
             nt_vec2 n;
             if (ray_body(b, p0, d, &t, &n) && t < best->fraction) {
@@ -1298,7 +1307,7 @@ static bool overlap_visit(const nt_world *w, int32_t i, void *vctx)
 {
     point_ctx *q = (point_ctx *)vctx;
     const nt__body *b = &w->bodies[i];
-    if (!query_sees(b, q->filter)) return true;
+    if (!nt__query_sees(w, i, &q->filter)) return true;
     int hit;
     if (q->point) {
         nt_real dx = q->lo.x - b->p.x, dy = q->lo.y - b->p.y;

@@ -877,3 +877,91 @@ double ref_rng_uniform(ref_rng *r, double lo, double hi)
 }
 
 int ref_rng_int(ref_rng *r, int n) { return (int)(ref_rng_next(r) % (unsigned long long)n); }
+
+/* ------------------------------------------------------------ brute-force casts */
+
+bool ref_object_overlaps_map_eps(const int *tiles, int w, int h, ref_shape s, double cx, double cy, double eps)
+{
+    world W = {tiles, w, h, 1};
+    return world_overlaps(&W, s, cx, cy, eps);
+}
+
+bool ref_objects_overlap(ref_shape a, double ax, double ay, ref_shape b, double bx, double by, double eps)
+{
+    double ahw = a.hw - eps, ahh = a.hh - eps;
+    double dx = ax - bx, dy = ay - by;
+    if (a.is_circle && b.is_circle) return sqrt(dx * dx + dy * dy) < ahw + b.hw;
+    if (!a.is_circle && !b.is_circle) return fabs(dx) < ahw + b.hw && fabs(dy) < ahh + b.hh;
+    /* A circle and a box: the circle's centre nearer than r to the box. */
+    double r = a.is_circle ? ahw : b.hw, hw = a.is_circle ? b.hw : ahw, hh = a.is_circle ? b.hh : ahh;
+    double qx = fabs(dx) - hw, qy = fabs(dy) - hh;
+    double ox = qx > 0 ? qx : 0, oy = qy > 0 ? qy : 0;
+    if (qx <= 0 && qy <= 0) return true;
+    return sqrt(ox * ox + oy * oy) < r;
+}
+
+/* Scan, then bisect, a predicate "overlaps at t" that is false at t = 0. */
+typedef bool (*at_fn)(const void *ctx, double t);
+
+static bool first_true(at_fn f, const void *ctx, double len, double step, double *t)
+{
+    if (f(ctx, 0)) {
+        *t = 0;
+        return true;
+    }
+    long n = (long)ceil(len / step);
+    if (n < 16) n = 16;
+    double prev = 0;
+    for (long k = 1; k <= n; k++) {
+        double u = (double)k / (double)n;
+        if (f(ctx, u)) {
+            double lo = prev, hi = u;
+            for (int it = 0; it < 60 && hi - lo > 1e-13; it++) {
+                double mid = 0.5 * (lo + hi);
+                if (f(ctx, mid)) hi = mid;
+                else lo = mid;
+            }
+            *t = hi;
+            return true;
+        }
+        prev = u;
+    }
+    return false;
+}
+
+typedef struct cast_map_ctx {
+    world W;
+    ref_shape s;
+    double cx, cy, dx, dy, eps;
+} cast_map_ctx;
+
+static bool cast_map_at(const void *vctx, double t)
+{
+    const cast_map_ctx *c = (const cast_map_ctx *)vctx;
+    return world_overlaps(&c->W, c->s, c->cx + c->dx * t, c->cy + c->dy * t, c->eps);
+}
+
+bool ref_cast_map(const int *tiles, int w, int h, ref_shape s, double cx, double cy, double dx, double dy, double eps,
+                  double step, double *t)
+{
+    cast_map_ctx c = {{tiles, w, h, 1}, s, cx, cy, dx, dy, eps};
+    return first_true(cast_map_at, &c, sqrt(dx * dx + dy * dy), step, t);
+}
+
+typedef struct cast_obj_ctx {
+    ref_shape a, b;
+    double ax, ay, dx, dy, bx, by, eps;
+} cast_obj_ctx;
+
+static bool cast_obj_at(const void *vctx, double t)
+{
+    const cast_obj_ctx *c = (const cast_obj_ctx *)vctx;
+    return ref_objects_overlap(c->a, c->ax + c->dx * t, c->ay + c->dy * t, c->b, c->bx, c->by, c->eps);
+}
+
+bool ref_cast_object(ref_shape a, double ax, double ay, double dx, double dy, ref_shape b, double bx, double by,
+                     double eps, double step, double *t)
+{
+    cast_obj_ctx c = {a, b, ax, ay, dx, dy, bx, by, eps};
+    return first_true(cast_obj_at, &c, sqrt(dx * dx + dy * dy), step, t);
+}

@@ -121,6 +121,26 @@ double ref_mtv_map(const int *tiles, int w, int h, ref_shape s, double cx, doubl
 double ref_mtv_map_sampled(const int *tiles, int w, int h, ref_shape s, double cx, double cy, int ndir,
                            double max_dist, double *dx, double *dy);
 
+/* ---- shape casts by brute force ---- */
+
+/// Does the object (shrunk by eps on every side) overlap the map? eps >= 0.
+bool ref_object_overlaps_map_eps(const int *tiles, int w, int h, ref_shape s, double cx, double cy, double eps);
+
+/// First t in [0, 1] at which the object moving from (cx, cy) by (dx, dy) overlaps the
+/// map's tiles (the object shrunk by eps >= 0 on every side, so that grazes shallower than
+/// eps are not overlaps): a scan in steps of at most `step` cells of travel (thin features
+/// are not skipped as long as their chord is longer), then bisection to 1e-13. True and *t
+/// when it overlaps somewhere on the way (t = 0 when it starts overlapping).
+bool ref_cast_map(const int *tiles, int w, int h, ref_shape s, double cx, double cy, double dx, double dy, double eps,
+                  double step, double *t);
+
+/// Do two objects' interiors overlap (a shrunk by eps)?
+bool ref_objects_overlap(ref_shape a, double ax, double ay, ref_shape b, double bx, double by, double eps);
+
+/// The same brute-force cast against one body (shape b at bx, by).
+bool ref_cast_object(ref_shape a, double ax, double ay, double dx, double dy, ref_shape b, double bx, double by,
+                     double eps, double step, double *t);
+
 /* ---- deterministic PRNG for the tests (splitmix64) ---- */
 
 typedef struct ref_rng {

@@ -5,6 +5,7 @@
  *   tiles.h  the 34 N tiles, exact minimum-translation routines, tile ray casts
  *   map.h    the tile map: edge states, resolution, ray casts
  *   world.h  the world: bodies, the step, events, queries, debug draw
+ *   character.h shape casts (box or circle swept against tiles and bodies)
  *   level.h  levels: the .ntl format, N v1.4 import, level -> world
  *   replay.h replays: the .ntr format
  *
@@ -19,6 +20,7 @@
 #include "tiles.h"
 #include "map.h"
 #include "world.h"
+#include "character.h"
 #include "level.h"
 #include "replay.h"
 

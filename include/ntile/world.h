@@ -408,14 +408,27 @@ nt_sensor_events nt_world_get_sensor_events(const nt_world *world);
 
 /* ---------------------------------------------------------------- queries */
 
-/// Which bodies a query sees: those whose category meets `mask` (sensors never). Bodies
-/// with a zero mask or category are not in the broad phase and are never reported.
+/// Most bodies a query filter can name in `ignore`.
+#define NT_QUERY_IGNORE_MAX 4
+
+/// Which bodies a query sees: those whose category meets `mask` (sensors never), that
+/// are not named in `ignore` and that `accept` (when set) returns true for. Bodies with
+/// a zero mask or category are not in the broad phase and are never reported. Fields
+/// added after `tiles` are zero in a filter that names only mask and tiles (or starts
+/// from nt_default_query_filter()): such a filter behaves as it always did. Used by ray casts, point and box queries and shape casts
+/// (a moving body passes its own id in `ignore`, so that it never hits itself).
 typedef struct nt_query_filter {
     uint32_t mask;
-    bool tiles; ///< ray casts: include the tiles
+    bool tiles;       ///< ray casts and shape casts: include the tiles
+    int ignore_count; ///< how many of ignore[] are used, 0..NT_QUERY_IGNORE_MAX (others: none)
+    nt_body_id ignore[NT_QUERY_IGNORE_MAX]; ///< bodies the query never reports
+    /// Called for each body that passes the tests above, before any geometry test;
+    /// return false to skip the body. NULL: every such body is seen. It must not change the world.
+    bool (*accept)(nt_body_id id, void *context);
+    void *accept_context; ///< passed to accept
 } nt_query_filter;
 
-/// All bodies and the tiles.
+/// All bodies and the tiles, nothing ignored, no callback.
 nt_query_filter nt_default_query_filter(void);
 
 /// A world ray hit: a tile (body is null) or a body.

@@ -1,0 +1,646 @@
+/* Shape casts: a box or circle swept against the tiles and the bodies, exactly.
+ *
+ * Everything is in cell units. Against one tile or body the shape's centre is inside
+ * the interior of the Minkowski region M = solid (+) shape exactly when they overlap.
+ * Box against a polygon tile or a box body: M is a convex polygon (the expanded bounds
+ * cut by the slope's support line, narrow.c), so the entry is the largest entry time
+ * over its half-planes (Cyrus-Beck). Every other pair: M's boundary lies on a known
+ * finite set of lines and circles (a superset is enough), so between two consecutive
+ * crossings of the segment with them the segment is wholly inside M or wholly outside;
+ * the exact overlap test at the middle of each piece says which. The first inside
+ * piece starts at the entry time.
+ */
+#include "core.h"
+
+/* A crossing of the segment with a boundary curve, with the curve's normal there
+ * oriented against the motion (a piece entered there is entered through it). */
+typedef struct xing {
+    nt_real t;
+    nt_vec2 n;
+} xing;
+
+enum { MAX_X = 64 };
+
+typedef struct xings {
+    xing x[MAX_X];
+    int n;
+} xings;
+
+/* The segment a + t d, t in [0, tmax], and the depth that counts as inside. */
+typedef struct seg {
+    nt_vec2 a, d;
+    nt_real tmax, tiny;
+} seg;
+
+/* The first entry found so far. */
+typedef struct hitrec {
+    nt_real t;
+    nt_vec2 n;
+    int kind; /* 0: none, 1: tile, 2: body, 3: start inside */
+    int cx, cy;
+    int32_t body;
+    nt_vec2 lo, hi; /* bounds of what was hit (for the contact point) */
+} hitrec;
+
+static void add_x(xings *X, const seg *s, nt_real t, nt_real nx, nt_real ny)
+{
+    if (X->n >= MAX_X || !(t <= s->tmax) || t < -1) return;
+    if (nx * s->d.x + ny * s->d.y > 0) nx = -nx, ny = -ny;
+    X->x[X->n].t = t;
+    X->x[X->n].n = nt_v2(nx, ny);
+    X->n++;
+}
+
+/* The line n . p = e (n unit). */
+static void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_real e)
+{
+    nt_real den = nx * s->d.x + ny * s->d.y;
+    if (den == 0) return;
+    add_x(X, s, (e - (nx * s->a.x + ny * s->a.y)) / den, nx, ny);
+}
+
+/* The circle |p - q| = rad. */
+static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
+{
+    if (!(rad > 0)) return;
+    nt_real mx = s->a.x - qx, my = s->a.y - qy;
+    nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, B = mx * s->d.x + my * s->d.y;
+    nt_real C = mx * mx + my * my - rad * rad;
+    nt_real disc = B * B - A * C;
+    if (!(A > 0) || disc < 0) return;
+    /* Roots of A t^2 + 2 B t + C without cancellation. */
+    nt_real k = -(B + (B >= 0 ? nt__sqrt(disc) : -nt__sqrt(disc)));
+    nt_real roots[2];
+    int nr = 0;
+    if (k != 0) {
+        roots[nr++] = k / A;
+        roots[nr++] = C / k;
+    } else {
+        roots[nr++] = 0;
+    }
+    for (int i = 0; i < nr; i++) {
+        nt_real t = roots[i];
+        nt_real px = mx + s->d.x * t, py = my + s->d.y * t, l = nt__sqrt(px * px + py * py);
+        if (l > 0) add_x(X, s, t, px / l, py / l);
+    }
+}
+
+/* What a piece of the segment is inside of. */
+typedef struct region {
+    int tile;      /* >= 0: this tile, local coordinates; -1: a body */
+    nt_shape obj;  /* the cast shape (cell units) */
+    nt_vec2 bp;    /* body centre */
+    nt_shape bs;   /* body shape */
+} region;
+
+static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
+{
+    nt_mtv m;
+    int hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
+    if (!hit) return 0;
+    *n = m.normal;
+    return m.depth;
+}
+
+/* First entry from the crossings: see the top of the file. A run of pieces inside
+ * (depth > 0) is an entry when it gets deeper than rounding somewhere (at a piece's
+ * middle): a short first piece, cut off by a curve that bounds nothing there, must
+ * not delay the entry. one_way: only entries through a surface facing up count. */
+static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt_real *t_out, nt_vec2 *n_out)
+{
+    for (int i = 1; i < X->n; i++) /* insertion sort, stable: same bits on every run */
+        for (int j = i; j > 0 && X->x[j].t < X->x[j - 1].t; j--) {
+            xing tmp = X->x[j];
+            X->x[j] = X->x[j - 1];
+            X->x[j - 1] = tmp;
+        }
+    nt_real prev = 0, run_start = 0, run_depth = 0;
+    nt_vec2 run_n = nt_v2(0, 0);
+    int in_run = 0;
+    for (int k = 0; k <= X->n; k++) {
+        nt_real b = k < X->n ? X->x[k].t : s->tmax;
+        if (b > s->tmax) b = s->tmax;
+        if (!(b > prev) && k < X->n) continue;
+        nt_vec2 mn = nt_v2(0, 0);
+        nt_real depth = 0;
+        if (b > prev) {
+            nt_real mid = R(0.5) * (prev + b);
+            depth = region_depth(g, nt_v2(s->a.x + s->d.x * mid, s->a.y + s->d.y * mid), &mn);
+        }
+        if (depth > 0) {
+            if (!in_run) in_run = 1, run_start = prev, run_depth = 0, run_n = mn;
+            run_depth = nt__max(run_depth, depth);
+        }
+        if (in_run && (depth <= 0 || k == X->n)) {
+            in_run = 0;
+            if (run_depth > s->tiny) {
+                /* The curve crossed nearest to the run's start bounds it there. */
+                nt_vec2 n = run_n;
+                nt_real best = NT_REAL_MAX;
+                for (int i = 0; i < X->n; i++) {
+                    nt_real e = nt__fabs(X->x[i].t - run_start);
+                    if (e < best) best = e, n = X->x[i].n;
+                }
+                if (!one_way || n.y < 0) {
+                    *t_out = run_start;
+                    *n_out = n;
+                    return 1;
+                }
+            }
+        }
+        prev = nt__max(prev, b);
+    }
+    return 0;
+}
+
+/* Convex M = { p : n_i . p < e_i for every i }: Cyrus-Beck, and the middle of the
+ * inside stretch must be deeper than rounding. */
+static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one_way, nt_real *t_out, nt_vec2 *n_out)
+{
+    nt_real tin = -NT_REAL_MAX, tout = NT_REAL_MAX, nearest = NT_REAL_MAX;
+    int in_i = -1, near_i = 0;
+    for (int i = 0; i < nl; i++) {
+        nt_real gap = L[i][2] - (L[i][0] * s->a.x + L[i][1] * s->a.y); /* > 0: inside at a */
+        nt_real den = L[i][0] * s->d.x + L[i][1] * s->d.y;
+        if (gap < nearest) nearest = gap, near_i = i;
+        if (den == 0) {
+            if (gap <= 0) return 0;
+            continue;
+        }
+        nt_real t = gap / den;
+        if (den < 0) {
+            if (t > tin) tin = t, in_i = i;
+        } else if (t < tout) {
+            tout = t;
+        }
+    }
+    nt_real lo = nt__max(tin, 0), hi = nt__min(tout, s->tmax);
+    if (!(lo < hi)) return 0;
+    nt_real mid = R(0.5) * (lo + hi), depth = NT_REAL_MAX;
+    for (int i = 0; i < nl; i++)
+        depth = nt__min(depth, L[i][2] - (L[i][0] * (s->a.x + s->d.x * mid) + L[i][1] * (s->a.y + s->d.y * mid)));
+    if (!(depth > s->tiny)) return 0;
+    int i = in_i >= 0 ? in_i : near_i;
+    nt_vec2 n = nt_v2(L[i][0], L[i][1]);
+    if (one_way && !(n.y < 0)) return 0; /* a convex region is entered once */
+    *t_out = lo;
+    *n_out = n;
+    return 1;
+}
+
+/* The segment (local to the tile's cell) against one tile. */
+static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
+{
+    const nt_tile_info *ti = &nt__tiles[tile];
+    nt_vec2 h = obj.half;
+    if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) {
+        const nt__tile_geom *g = &nt__geom[tile];
+        nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
+                           {1, 0, ti->bounds_max.x + h.x},
+                           {0, -1, h.y - ti->bounds_min.y},
+                           {0, 1, ti->bounds_max.y + h.y}};
+        int nl = 4;
+        if (g->has_slope) {
+            nt_real ux = g->slope[0], uy = g->slope[1];
+            L[4][0] = g->slope[4];
+            L[4][1] = g->slope[5];
+            L[4][2] = (g->slope[2] + h.x * nt__fabs(ux) + h.y * nt__fabs(uy)) * g->slope[3];
+            nl = 5;
+        }
+        return halfplanes_entry((const nt_real(*)[3])L, nl, s, one_way, t, n);
+    }
+    xings X;
+    X.n = 0;
+    int nv = ti->vertex_count;
+    int round = ti->cls == NT_CLASS_CONVEX || ti->cls == NT_CLASS_CONCAVE;
+    nt_vec2 o = ti->arc_center;
+    if (obj.type == NT_SHAPE_CIRCLE) {
+        /* M = points within r of the tile: its edges moved out by r, circles of radius
+         * r around its corners, and the arc's circle grown or shrunk by r. */
+        nt_real r = h.x;
+        for (int i = 0; i < nv; i++) {
+            nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
+            circle_x(&X, s, v.x, v.y, r);
+            nt_real ex = -(w.y - v.y), ey = w.x - v.x, len = nt__sqrt(ex * ex + ey * ey);
+            if (len > 0) line_x(&X, s, ex / len, ey / len, (ex * v.x + ey * v.y) / len + r);
+        }
+        if (round) {
+            circle_x(&X, s, o.x, o.y, 1 + r);
+            circle_x(&X, s, o.x, o.y, nt__fabs(1 - r));
+        }
+    } else {
+        /* M = tile (+) box: each box corner running along each tile edge and the arc,
+         * and each box side running past each tile corner. */
+        for (int k = 0; k < 4; k++) {
+            nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
+            for (int i = 0; i < nv; i++) {
+                nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
+                nt_real ex = -(w.y - v.y), ey = w.x - v.x, len = nt__sqrt(ex * ex + ey * ey);
+                if (len > 0) line_x(&X, s, ex / len, ey / len, (ex * (v.x - sx) + ey * (v.y - sy)) / len);
+            }
+            if (round) circle_x(&X, s, o.x - sx, o.y - sy, 1);
+        }
+        for (int i = 0; i < nv; i++) {
+            nt_vec2 v = ti->vertices[i];
+            line_x(&X, s, 1, 0, v.x - h.x);
+            line_x(&X, s, 1, 0, v.x + h.x);
+            line_x(&X, s, 0, 1, v.y - h.y);
+            line_x(&X, s, 0, 1, v.y + h.y);
+        }
+    }
+    region g;
+    g.tile = tile;
+    g.obj = obj;
+    g.bp = nt_v2(0, 0);
+    g.bs = obj;
+    return pieces_entry(&X, s, &g, one_way, t, n);
+}
+
+/* The segment (cell units) against one body (centre bp, shape bs, cell units). */
+static int body_entry(nt_vec2 bp, nt_shape bs, const seg *s, nt_shape obj, nt_real *t, nt_vec2 *n)
+{
+    if (obj.type == NT_SHAPE_AABB && bs.type == NT_SHAPE_AABB) {
+        nt_real hx = obj.half.x + bs.half.x, hy = obj.half.y + bs.half.y;
+        nt_real L[4][3] = {{-1, 0, hx - bp.x}, {1, 0, bp.x + hx}, {0, -1, hy - bp.y}, {0, 1, bp.y + hy}};
+        return halfplanes_entry((const nt_real(*)[3])L, 4, s, 0, t, n);
+    }
+    xings X;
+    X.n = 0;
+    if (obj.type == NT_SHAPE_CIRCLE && bs.type == NT_SHAPE_CIRCLE) {
+        circle_x(&X, s, bp.x, bp.y, obj.half.x + bs.half.x);
+    } else {
+        /* A box and a circle: the box grown by r, corners rounded. */
+        nt_vec2 hb = obj.type == NT_SHAPE_AABB ? obj.half : bs.half;
+        nt_real r = obj.type == NT_SHAPE_CIRCLE ? obj.half.x : bs.half.x;
+        line_x(&X, s, 1, 0, bp.x - hb.x - r);
+        line_x(&X, s, 1, 0, bp.x + hb.x + r);
+        line_x(&X, s, 0, 1, bp.y - hb.y - r);
+        line_x(&X, s, 0, 1, bp.y + hb.y + r);
+        for (int k = 0; k < 4; k++)
+            circle_x(&X, s, bp.x + ((k & 1) ? hb.x : -hb.x), bp.y + ((k & 2) ? hb.y : -hb.y), r);
+    }
+    region g;
+    g.tile = -1;
+    g.obj = obj;
+    g.bp = bp;
+    g.bs = bs;
+    return pieces_entry(&X, s, &g, 0, t, n);
+}
+
+/* ------------------------------------------------------------------ the cast */
+
+typedef struct caster {
+    const nt_map *map;
+    const nt_world *world;     /* one-way cells and bodies; NULL for a map cast */
+    const nt_query_filter *filter;
+    nt_vec2 p0, d;             /* cell units */
+    nt_shape obj;              /* cell units, as given */
+    nt_shape sweep;            /* the shape swept: obj shrunk by the resting depth */
+    nt_real tiny, tol;
+    int tiles;
+    hitrec best;
+} caster;
+
+/* A one-way cell the shape overlaps at the start, other than resting on it from
+ * above, is ignored by the whole cast. depth/normal: its start overlap. */
+static int one_way_ignored(nt_real depth, nt_vec2 n, const caster *c)
+{
+    return depth > c->tiny && !(depth <= c->tol && n.y < 0);
+}
+
+static int cell_one_way(const caster *c, int x, int y)
+{
+    return c->world && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
+}
+
+/* Start overlap of the given shape with one tile, seams ignored as nt_map_resolve
+ * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
+static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
+{
+    nt__cell cell = nt__map_cell(c->map, x, y);
+    if (cell.tile == NT_TILE_EMPTY) return 0;
+    nt_vec2 l = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
+    nt_mtv m, u;
+    *n = nt_v2(0, 0);
+    /* The overlap itself from the plain test: the masked one measures the way out. */
+    if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
+    int r = c->obj.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(cell.tile, l, c->obj.half.x, cell.seams, &m)
+                                           : nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, cell.seams, &m);
+    if (r == NT__SEPARATE) return 0;
+    if (r == NT__MASKED) {
+        /* Every way out of this tile alone is a seam: its neighbours, which cover
+         * those sides, give the contacts; only a deep overlap counts here. */
+        return u.depth <= c->tol ? 0 : NT_REAL_MAX;
+    }
+    *n = m.normal;
+    return m.depth;
+}
+
+/* One start overlap: deep ends the cast, approaching stops it at 0, else it counts
+ * towards the resting depth. Returns 1 when the cast is decided. */
+static int start_contact(caster *c, nt_real depth, nt_vec2 n, int kind, int cx, int cy, int32_t body, nt_real *rest)
+{
+    if (depth <= c->tiny) return 0;
+    if (depth > c->tol) {
+        c->best.t = 0;
+        c->best.n = nt_v2(0, 0);
+        c->best.kind = 3;
+        c->best.cx = cx;
+        c->best.cy = cy;
+        c->best.body = body;
+        return 1;
+    }
+    if (nt__dot(n, c->d) < 0 && c->best.kind == 0) {
+        c->best.t = 0;
+        c->best.n = n;
+        c->best.kind = kind;
+        c->best.cx = cx;
+        c->best.cy = cy;
+        c->best.body = body;
+    }
+    if (depth > *rest) *rest = depth;
+    return 0;
+}
+
+static void set_tile_bounds(hitrec *h, int tile, int x, int y)
+{
+    const nt_tile_info *ti = &nt__tiles[tile];
+    h->lo = nt_v2((nt_real)x + ti->bounds_min.x, (nt_real)y + ti->bounds_min.y);
+    h->hi = nt_v2((nt_real)x + ti->bounds_max.x, (nt_real)y + ti->bounds_max.y);
+}
+
+/* Start overlaps with the tiles. Returns 1 when the cast is decided (deep). */
+static int start_tiles(caster *c, nt_real *rest)
+{
+    nt_vec2 h = c->obj.half;
+    int x0 = nt__floor_int(c->p0.x - h.x), x1 = nt__floor_int(c->p0.x + h.x);
+    int y0 = nt__floor_int(c->p0.y - h.y), y1 = nt__floor_int(c->p0.y + h.y);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt_vec2 n;
+            nt_real depth = tile_start_depth(c, x, y, &n);
+            if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
+            int had = c->best.kind;
+            if (start_contact(c, depth, n, 1, x, y, -1, rest)) return 1;
+            if (!had && c->best.kind) set_tile_bounds(&c->best, nt__map_tile(c->map, x, y), x, y);
+        }
+    return 0;
+}
+
+/* The sweep against one tile cell. */
+static void sweep_cell(caster *c, int x, int y, nt_real tmax)
+{
+    int tile = nt__map_tile(c->map, x, y);
+    if (tile == NT_TILE_EMPTY) return;
+    int one_way = cell_one_way(c, x, y);
+    if (one_way) {
+        nt_vec2 n;
+        if (one_way_ignored(tile_start_depth(c, x, y, &n), n, c)) return;
+    }
+    seg s;
+    s.a = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
+    s.d = c->d;
+    s.tmax = tmax;
+    s.tiny = c->tiny;
+    nt_real t;
+    nt_vec2 n;
+    if (tile_entry(tile, &s, c->sweep, one_way, &t, &n) && t < c->best.t) {
+        c->best.t = t;
+        c->best.n = n;
+        c->best.kind = 1;
+        c->best.cx = x;
+        c->best.cy = y;
+        c->best.body = -1;
+        set_tile_bounds(&c->best, tile, x, y);
+    }
+}
+
+/* t range in which the centre's coordinate p + t d lies within [lo, hi]. */
+static int slab(nt_real p, nt_real d, nt_real lo, nt_real hi, nt_real *t0, nt_real *t1)
+{
+    if (d == 0) {
+        *t0 = 0;
+        *t1 = 1;
+        return p >= lo && p <= hi;
+    }
+    nt_real a = (lo - p) / d, b = (hi - p) / d;
+    *t0 = nt__min(a, b);
+    *t1 = nt__max(a, b);
+    return 1;
+}
+
+/* The cells the swept shape covers, column by column and row by row in the direction
+ * of motion, so that the walk stops once every cell left starts after the best hit. */
+static void sweep_tiles(caster *c)
+{
+    nt_vec2 h = c->sweep.half, p0 = c->p0, d = c->d;
+    nt_real xa = nt__min(p0.x, p0.x + d.x), xb = nt__max(p0.x, p0.x + d.x);
+    int cx0 = nt__floor_int(xa - h.x), cx1 = nt__floor_int(xb + h.x);
+    int sx = d.x < 0 ? -1 : 1, sy = d.y < 0 ? -1 : 1;
+    for (int x = sx > 0 ? cx0 : cx1; sx > 0 ? x <= cx1 : x >= cx0; x += sx) {
+        nt_real t0, t1;
+        if (!slab(p0.x, d.x, (nt_real)x - h.x, (nt_real)x + 1 + h.x, &t0, &t1)) continue;
+        if (t0 > c->best.t) break;
+        t0 = nt__max(t0, 0);
+        t1 = nt__min(t1, 1);
+        if (t0 > t1) continue;
+        nt_real ya = nt__min(p0.y + d.y * t0, p0.y + d.y * t1), yb = nt__max(p0.y + d.y * t0, p0.y + d.y * t1);
+        int cy0 = nt__floor_int(ya - h.y), cy1 = nt__floor_int(yb + h.y);
+        for (int y = sy > 0 ? cy0 : cy1; sy > 0 ? y <= cy1 : y >= cy0; y += sy) {
+            nt_real u0, u1;
+            if (slab(p0.y, d.y, (nt_real)y - h.y, (nt_real)y + 1 + h.y, &u0, &u1) && u0 > c->best.t) break;
+            sweep_cell(c, x, y, nt__min(c->best.t, R(1)));
+        }
+    }
+}
+
+/* ---- bodies ---- */
+
+typedef struct body_pass {
+    caster *c;
+    int start;     /* 1: start overlaps, 0: the sweep */
+    nt_real *rest;
+    int decided;
+} body_pass;
+
+static bool body_visit(const nt_world *w, int32_t i, void *vctx)
+{
+    body_pass *bp = (body_pass *)vctx;
+    caster *c = bp->c;
+    if (!nt__query_sees(w, i, c->filter)) return true;
+    const nt__body *b = &w->bodies[i];
+    nt_real ic = w->map->inv_cell;
+    nt_vec2 p = nt_v2(b->p.x * ic, b->p.y * ic);
+    nt_shape bs = nt__body_shape(b);
+    bs.half = nt_v2(bs.half.x * ic, bs.half.y * ic);
+    if (bp->start) {
+        nt_mtv m;
+        if (!nt_collide_shapes(c->p0, c->obj, p, bs, &m)) return true;
+        int had = c->best.kind;
+        if (start_contact(c, m.depth, m.normal, 2, 0, 0, i, bp->rest)) {
+            bp->decided = 1;
+            return false;
+        }
+        if (!had && c->best.kind) {
+            c->best.lo = nt__sub(p, bs.half);
+            c->best.hi = nt__add(p, bs.half);
+        }
+        return true;
+    }
+    seg s;
+    s.a = c->p0;
+    s.d = c->d;
+    s.tmax = nt__min(c->best.t, R(1));
+    s.tiny = c->tiny;
+    nt_real t;
+    nt_vec2 n;
+    if (body_entry(p, bs, &s, c->sweep, &t, &n) && t < c->best.t) {
+        c->best.t = t;
+        c->best.n = n;
+        c->best.kind = 2;
+        c->best.body = i;
+        c->best.cx = c->best.cy = 0;
+        c->best.lo = nt__sub(p, bs.half);
+        c->best.hi = nt__add(p, bs.half);
+    }
+    return true;
+}
+
+static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
+{
+    const nt_world *w = c->world;
+    if (!w || !w->heads || w->grid_bodies == 0 || c->filter->mask == 0) return;
+    nt_real cell = w->map->cell;
+    nt__grid_visit(w, nt__scale(lo, cell), nt__scale(hi, cell), body_visit, bp);
+}
+
+/* ---- input, output ---- */
+
+static int shape_ok(nt_shape s, nt_real cell)
+{
+    nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
+    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
+    if (!nt__finite(s.half.x) || !nt__finite(s.half.y)) return 0;
+    if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
+    return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
+}
+
+/* Where the shape (at its centre q, cell units) touches what it hit: its support point
+ * against the normal, the middle of the shared stretch when a whole side faces it. */
+static nt_vec2 contact_point(const caster *c, nt_vec2 q)
+{
+    const hitrec *b = &c->best;
+    nt_vec2 h = c->obj.half, n = b->n;
+    if (b->kind == 3 || (n.x == 0 && n.y == 0)) return q;
+    if (c->obj.type == NT_SHAPE_CIRCLE) return nt_v2(q.x - n.x * h.x, q.y - n.y * h.x);
+    nt_vec2 p;
+    if (n.x == 0) {
+        nt_real lo = nt__max(q.x - h.x, b->lo.x), hi = nt__min(q.x + h.x, b->hi.x);
+        p = nt_v2(lo <= hi ? R(0.5) * (lo + hi) : q.x, n.y < 0 ? q.y + h.y : q.y - h.y);
+    } else if (n.y == 0) {
+        nt_real lo = nt__max(q.y - h.y, b->lo.y), hi = nt__min(q.y + h.y, b->hi.y);
+        p = nt_v2(n.x < 0 ? q.x + h.x : q.x - h.x, lo <= hi ? R(0.5) * (lo + hi) : q.y);
+    } else {
+        p = nt_v2(n.x < 0 ? q.x + h.x : q.x - h.x, n.y < 0 ? q.y + h.y : q.y - h.y);
+    }
+    return p;
+}
+
+/* The whole cast. Returns 1 on a hit (c->best). */
+static int run_cast(caster *c)
+{
+    nt_real mag = nt__max(nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y)),
+                          nt__max(nt__fabs(c->p0.x + c->d.x), nt__fabs(c->p0.y + c->d.y)));
+    c->tiny = R(16) * NT_REAL_EPS * nt__max(R(1), mag);
+    c->tol = nt__max(R(NT_CAST_START_TOLERANCE), 2 * c->tiny);
+    c->best.t = 2;
+    c->best.kind = 0;
+    c->best.n = nt_v2(0, 0);
+    c->best.cx = c->best.cy = 0;
+    c->best.body = -1;
+    c->best.lo = c->best.hi = nt_v2(0, 0);
+    nt_real rest = 0;
+    if (c->tiles && start_tiles(c, &rest)) return 1;
+    body_pass bp;
+    bp.c = c;
+    bp.rest = &rest;
+    bp.decided = 0;
+    bp.start = 1;
+    visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
+    if (bp.decided) return 1;
+    if (c->best.kind) return 1; /* approaching a surface it rests on */
+    /* Resting: sweep a shape smaller by the resting depth (and rounding). */
+    c->sweep = c->obj;
+    if (rest > 0) {
+        nt_real k = rest + c->tiny;
+        c->sweep.half = nt_v2(nt__max(c->obj.half.x - k, 0), nt__max(c->obj.half.y - k, 0));
+    }
+    if (c->tiles) sweep_tiles(c);
+    bp.start = 0;
+    nt_vec2 p1 = nt__add(c->p0, c->d);
+    nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
+    nt_vec2 hi = nt_v2(nt__max(c->p0.x, p1.x) + c->obj.half.x, nt__max(c->p0.y, p1.y) + c->obj.half.y);
+    visit_bodies(c, &bp, lo, hi);
+    return c->best.kind != 0 && c->best.t <= 1;
+}
+
+static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation)
+{
+    if (!map || !shape_ok(shape, map->cell)) return 0;
+    if (!nt__finite(pos.x) || !nt__finite(pos.y) || !nt__finite(translation.x) || !nt__finite(translation.y)) return 0;
+    nt_real ic = map->inv_cell;
+    memset(c, 0, sizeof *c);
+    c->map = map;
+    c->p0 = nt_v2(pos.x * ic, pos.y * ic);
+    c->d = nt_v2(translation.x * ic, translation.y * ic);
+    c->obj = shape;
+    c->obj.half = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    return nt__finite(c->p0.x + c->d.x) && nt__finite(c->p0.y + c->d.y);
+}
+
+bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation, nt_shape_cast_hit *out)
+{
+    nt_shape_cast_hit r;
+    memset(&r, 0, sizeof r);
+    if (out) *out = r;
+    caster c;
+    if (!setup(&c, map, pos, shape, translation)) return false;
+    c.tiles = 1;
+    if (!run_cast(&c)) return false;
+    nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
+    r.fraction = c.best.t;
+    r.normal = c.best.n;
+    r.point = nt__scale(contact_point(&c, q), map->cell);
+    r.cell_x = c.best.cx;
+    r.cell_y = c.best.cy;
+    if (out) *out = r;
+    return true;
+}
+
+bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
+                         nt_query_filter filter, nt_world_shape_hit *out)
+{
+    nt_world_shape_hit r;
+    memset(&r, 0, sizeof r);
+    if (out) *out = r;
+    if (!world) return false;
+    caster c;
+    if (!setup(&c, world->map, pos, shape, translation)) return false;
+    c.world = world;
+    c.filter = &filter;
+    c.tiles = filter.tiles;
+    if (!run_cast(&c)) return false;
+    nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
+    r.fraction = c.best.t;
+    r.normal = c.best.n;
+    r.point = nt__scale(contact_point(&c, q), world->map->cell);
+    if (c.best.body >= 0) {
+        r.body.index1 = c.best.body + 1;
+        r.body.generation = world->bodies[c.best.body].generation;
+    } else {
+        r.cell_x = c.best.cx;
+        r.cell_y = c.best.cy;
+    }
+    if (out) *out = r;
+    return true;
+}
