@@ -26,7 +26,9 @@ typedef struct xings {
     int n;
 } xings;
 
-/* The segment a + t d, t in [0, tmax], and the depth that counts as inside. */
+/* The segment a + t d, t in [0, 1], the depth that counts as inside, and the time
+ * after which an entry is of no use (the best so far). A stretch inside is followed
+ * past tmax to judge its depth: cutting it there could leave it too shallow to count. */
 typedef struct seg {
     nt_vec2 a, d;
     nt_real tmax, tiny;
@@ -44,7 +46,7 @@ typedef struct hitrec {
 
 static void add_x(xings *X, const seg *s, nt_real t, nt_real nx, nt_real ny)
 {
-    if (X->n >= MAX_X || !(t <= s->tmax) || t < -1) return;
+    if (X->n >= MAX_X || !(t <= 1) || t < -1) return;
     if (nx * s->d.x + ny * s->d.y > 0) nx = -nx, ny = -ny;
     X->x[X->n].t = t;
     X->x[X->n].n = nt_v2(nx, ny);
@@ -66,7 +68,10 @@ static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad
     nt_real mx = s->a.x - qx, my = s->a.y - qy;
     nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, B = mx * s->d.x + my * s->d.y;
     nt_real C = mx * mx + my * my - rad * rad;
-    nt_real disc = B * B - A * C;
+    /* B^2 - A C written as A rad^2 - (m x d)^2: no cancellation between two large
+     * terms when the circle is small and far. */
+    nt_real cr = mx * s->d.y - my * s->d.x;
+    nt_real disc = A * rad * rad - cr * cr;
     if (!(A > 0) || disc < 0) return;
     /* Roots of A t^2 + 2 B t + C without cancellation. */
     nt_real k = -(B + (B >= 0 ? nt__sqrt(disc) : -nt__sqrt(disc)));
@@ -118,8 +123,8 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
     nt_vec2 run_n = nt_v2(0, 0);
     int in_run = 0;
     for (int k = 0; k <= X->n; k++) {
-        nt_real b = k < X->n ? X->x[k].t : s->tmax;
-        if (b > s->tmax) b = s->tmax;
+        if (!in_run && prev >= s->tmax) break;
+        nt_real b = k < X->n ? X->x[k].t : 1;
         if (!(b > prev) && k < X->n) continue;
         nt_vec2 mn = nt_v2(0, 0);
         nt_real depth = 0;
@@ -174,8 +179,8 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
             tout = t;
         }
     }
-    nt_real lo = nt__max(tin, 0), hi = nt__min(tout, s->tmax);
-    if (!(lo < hi)) return 0;
+    nt_real lo = nt__max(tin, 0), hi = nt__min(tout, 1);
+    if (!(lo < hi) || !(lo < s->tmax)) return 0;
     nt_real mid = R(0.5) * (lo + hi), depth = NT_REAL_MAX;
     for (int i = 0; i < nl; i++)
         depth = nt__min(depth, L[i][2] - (L[i][0] * (s->a.x + s->d.x * mid) + L[i][1] * (s->a.y + s->d.y * mid)));
