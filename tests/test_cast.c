@@ -541,6 +541,21 @@ static void test_world_resting_body_slides(void **state)
     nt_world_destroy(w);
 }
 
+/* Both casts refuse the input: false, and the result zeroed over garbage. */
+static void expect_refused(const nt_map *m, const nt_world *w, nt_vec2 p, nt_shape s, nt_vec2 t)
+{
+    nt_shape_cast_hit h, zero;
+    nt_world_shape_hit wh, wzero;
+    memset(&zero, 0, sizeof zero);
+    memset(&wzero, 0, sizeof wzero);
+    memset(&h, 0x5a, sizeof h);
+    memset(&wh, 0x5a, sizeof wh);
+    assert_false(nt_map_cast_shape(m, p, s, t, &h));
+    assert_memory_equal(&h, &zero, sizeof h);
+    assert_false(nt_world_cast_shape(w, p, s, t, nt_default_query_filter(), &wh));
+    assert_memory_equal(&wh, &wzero, sizeof wh);
+}
+
 /* Bad input: false, a zero result, nothing changed. */
 static void test_bad_input(void **state)
 {
@@ -557,40 +572,16 @@ static void test_bad_input(void **state)
     bad[5].type = (nt_shape_type)7;
     nt_shape uneven = nt_shape_circle(4);
     uneven.half.y = 5;
-    nt_shape_cast_hit h;
-    nt_world_shape_hit wh;
-    nt_shape_cast_hit zero;
-    memset(&zero, 0, sizeof zero);
-    nt_world_shape_hit wzero;
-    memset(&wzero, 0, sizeof wzero);
-    for (int i = 0; i < 7; i++) {
-        nt_shape s = i < 6 ? bad[i] : uneven;
-        memset(&h, 0x5a, sizeof h);
-        assert_false(nt_map_cast_shape(m, p, s, t, &h));
-        assert_memory_equal(&h, &zero, sizeof h);
-        memset(&wh, 0x5a, sizeof wh);
-        assert_false(nt_world_cast_shape(w, p, s, t, nt_default_query_filter(), &wh));
-        assert_memory_equal(&wh, &wzero, sizeof wh);
-    }
+    for (int i = 0; i < 7; i++) expect_refused(m, w, p, i < 6 ? bad[i] : uneven, t);
     nt_vec2 nans[4] = {nt_v2(nan, 48), nt_v2(48, inf), nt_v2(48, 48), nt_v2(48, 48)};
     nt_vec2 nant[4] = {t, t, nt_v2(nan, 0), nt_v2(0, -inf)};
-    for (int i = 0; i < 4; i++) {
-        memset(&h, 0x5a, sizeof h);
-        assert_false(nt_map_cast_shape(m, nans[i], ok, nant[i], &h));
-        assert_memory_equal(&h, &zero, sizeof h);
-        assert_false(nt_world_cast_shape(w, nans[i], ok, nant[i], nt_default_query_filter(), &wh));
-        assert_memory_equal(&wh, &wzero, sizeof wh);
-    }
-    memset(&h, 0x5a, sizeof h);
-    assert_false(nt_map_cast_shape(NULL, p, ok, t, &h));
-    assert_memory_equal(&h, &zero, sizeof h);
-    memset(&wh, 0x5a, sizeof wh);
-    assert_false(nt_world_cast_shape(NULL, p, ok, t, nt_default_query_filter(), &wh));
-    assert_memory_equal(&wh, &wzero, sizeof wh);
+    for (int i = 0; i < 4; i++) expect_refused(m, w, nans[i], ok, nant[i]);
+    expect_refused(NULL, NULL, p, ok, t);
     /* NULL out is allowed; the answer is still given. */
     assert_true(nt_map_cast_shape(m, p, ok, nt_v2(200, 0), NULL));
     assert_false(nt_map_cast_shape(m, p, ok, nt_v2(10, 0), NULL));
     /* Zero translation: nothing approached, nothing hit; from deep inside: t = 0. */
+    nt_shape_cast_hit h;
     assert_false(nt_map_cast_shape(m, p, ok, nt_v2(0, 0), &h));
     assert_true(nt_map_cast_shape(m, nt_v2(-24, 48), ok, nt_v2(0, 0), &h));
     assert_true(h.fraction == 0 && h.normal.x == 0 && h.normal.y == 0);
