@@ -323,10 +323,10 @@ static int cell_one_way(const caster *c, int x, int y)
 static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
 {
     nt__cell cell = nt__map_cell(c->map, x, y);
+    *n = nt_v2(0, 0);
     if (cell.tile == NT_TILE_EMPTY) return 0;
     nt_vec2 l = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
     nt_mtv m, u;
-    *n = nt_v2(0, 0);
     /* The overlap itself from the plain test: the masked one measures the way out. */
     if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
     int r = c->obj.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(cell.tile, l, c->obj.half.x, cell.seams, &m)
