@@ -408,6 +408,60 @@ static void test_world_bodies_against_reference(void **state)
     nt_world_destroy(w);
 }
 
+/* Tiles and bodies together: the world cast answers the earlier of the map cast on the
+ * world's map and the brute-force body cast, a tile on ties. */
+static void test_world_tiles_and_bodies(void **state)
+{
+    (void)state;
+    enum { W = 24, H = 18, N = 12 };
+    nt_world *w = make_world(W, H);
+    ref_rng r = ref_rng_seed(31);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            if (ref_rng_int(&r, 6) == 0) assert_int_equal(nt_world_set_tile(w, x, y, 1 + ref_rng_int(&r, 33)), NT_OK);
+    rbody b[N];
+    for (int i = 0; i < N; i++) {
+        b[i].s = random_shape(&r, i % 3 == 0 ? 2.0 : 0.5);
+        b[i].x = ref_rng_uniform(&r, 3, W - 3);
+        b[i].y = ref_rng_uniform(&r, 3, H - 3);
+        b[i].id = add_body(w, NT_BODY_STATIC, b[i].s, b[i].x, b[i].y);
+    }
+    int tile_hits = 0, body_hits = 0;
+    for (int k = 0; k < 400; k++) {
+        ref_shape s = random_shape(&r, k % 4 == 0 ? 1.5 : 0.5);
+        double cx = ref_rng_uniform(&r, 2, W - 2), cy = ref_rng_uniform(&r, 2, H - 2);
+        double a = ref_rng_uniform(&r, 0, 6.283185307179586), l = ref_rng_uniform(&r, 0.5, 6);
+        nt_vec2 p = nt_v2((nt_real)(cx * CELL), (nt_real)(cy * CELL));
+        nt_vec2 t = nt_v2((nt_real)(l * cos(a) * CELL), (nt_real)(l * sin(a) * CELL));
+        nt_shape_cast_hit mh;
+        bool m = nt_map_cast_shape(nt_world_get_map(w), p, to_nt(s), t, &mh);
+        double tb = 2;
+        int bad = 0;
+        for (int i = 0; i < N; i++) {
+            double ti;
+            if (ref_objects_overlap(s, cx, cy, b[i].s, b[i].x, b[i].y, -1e-4)) bad = 1;
+            if (ref_cast_object(s, cx, cy, l * cos(a), l * sin(a), b[i].s, b[i].x, b[i].y, 1e-9, STEP, &ti) && ti < tb)
+                tb = ti;
+        }
+        if (bad || (m && mh.fraction == 0)) continue;
+        nt_world_shape_hit wh;
+        bool e = nt_world_cast_shape(w, p, to_nt(s), t, nt_default_query_filter(), &wh);
+        double want = m ? (double)mh.fraction : 2;
+        if (tb < want - 1e-4 / l) want = tb;
+        assert_int_equal(e, want <= 1);
+        if (!e) continue;
+        assert_true(fabs((double)wh.fraction - want) * l < 2 * TOL);
+        if (nt_body_id_is_null(wh.body)) {
+            tile_hits++;
+            assert_true(m && wh.fraction == mh.fraction && wh.cell_x == mh.cell_x && wh.cell_y == mh.cell_y);
+        } else {
+            body_hits++;
+        }
+    }
+    assert_true(tile_hits > 50 && body_hits > 20);
+    nt_world_destroy(w);
+}
+
 static bool accept_not(nt_body_id id, void *ctx)
 {
     return !nt_body_id_equals(id, *(const nt_body_id *)ctx);
@@ -598,6 +652,7 @@ int main(void)
         cmocka_unit_test(test_floor_never_stops_a_slide),
         cmocka_unit_test(test_slope_joins),
         cmocka_unit_test(test_world_bodies_against_reference),
+        cmocka_unit_test(test_world_tiles_and_bodies),
         cmocka_unit_test(test_filter),
         cmocka_unit_test(test_one_way),
         cmocka_unit_test(test_world_resting_body_slides),
