@@ -21,6 +21,8 @@
  *    the surfaces it rests on never stop it: a box sliding along a floor of many tiles,
  *    or from a slope onto a flat, goes the whole way; what it meets later is met up to
  *    that depth late (at most the tolerance over the cosine of the approach angle).
+ *    A concave arc (a quarter pipe) curves into a path along its tangent: moving along
+ *    one it rests on meets it at once.
  *  - Deeper than the tolerance in anything: t = 0 and a zero normal.
  * Seams between solid tiles never stop a cast; cells outside the map are FULL, as for
  * nt_map_resolve. Nothing is allocated; the cost grows with the cells the swept shape
