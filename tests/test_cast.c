@@ -238,6 +238,7 @@ static void test_slope_joins(void **state)
     enum { W = 30, H = 14 };
     const int slopes[] = {NT_TILE_45DEGpn, NT_TILE_22DEGpnS, NT_TILE_22DEGpnB, NT_TILE_67DEGpnS, NT_TILE_67DEGpnB};
     const double skin = 2.5e-4;
+    int valley_hits = 0;
     for (int k = 0; k < 5; k++) {
         int id = slopes[k];
         /* Crest: FULL row 8 for x < 10, slope tile at (10, 8) falling to the right,
@@ -285,6 +286,24 @@ static void test_slope_joins(void **state)
                 }
             }
             (void)n;
+            /* Down the slope into the valley (or off it onto the floor): stopped where the
+             * reference stops the shape made smaller by its start depth, not before. */
+            double d0 = ref_mtv_map(tiles, W, H, s, cx, cy, NULL, NULL);
+            double tr = 0;
+            bool rr = ref_cast_map(tiles, W, H, ref_shape_grow(s, -d0), cx, cy, tx * 2.5, ty * 2.5, 1e-9, STEP, &tr);
+            e = nt_map_cast_shape(m, nt_v2((nt_real)(cx * CELL), (nt_real)(cy * CELL)), to_nt(s),
+                                  nt_v2((nt_real)(tx * 2.5 * CELL), (nt_real)(ty * 2.5 * CELL)), &hit);
+            assert_int_equal(e, rr);
+            valley_hits += e;
+            if (e) {
+                double anx = fabs((double)hit.normal.x), any = fabs((double)hit.normal.y);
+                double cosa = fabs((double)hit.normal.x * tx + (double)hit.normal.y * ty);
+                double err = fabs((double)hit.fraction - tr) * 2.5 - 16 * 16 * ULP * (anx + any) / fmax(cosa, 0.1);
+                if (err >= 2e-5)
+                    fprintf(stderr, "valley %s: %s %g x %g: t %.9g ref %.9g\n", ti->name, s.is_circle ? "circle" : "box",
+                            s.hw, s.hh, (double)hit.fraction, tr);
+                assert_true(err < 2e-5);
+            }
             nt_map_destroy(m);
             m = make_map(W, H, tiles);
         }
@@ -330,6 +349,7 @@ static void test_slope_joins(void **state)
         }
         nt_map_destroy(m);
     }
+    assert_true(valley_hits >= 15); /* of 20: a wide box can rest on the flat beyond the slope */
 }
 
 /* ---- the world ---- */
