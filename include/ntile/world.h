@@ -413,10 +413,11 @@ nt_sensor_events nt_world_get_sensor_events(const nt_world *world);
 
 /// Which bodies a query sees: those whose category meets `mask` (sensors never), that
 /// are not named in `ignore` and that `accept` (when set) returns true for. Bodies with
-/// a zero mask or category are not in the broad phase and are never reported. Fields
-/// added after `tiles` are zero in a filter that names only mask and tiles (or starts
-/// from nt_default_query_filter()): such a filter behaves as it always did. Used by ray casts, point and box queries and shape casts
-/// (a moving body passes its own id in `ignore`, so that it never hits itself).
+/// a zero mask or category are not in the broad phase and are never reported. Start
+/// from nt_default_query_filter(), or name only mask and tiles in an initializer: the
+/// fields after `tiles` are then zero and the filter behaves as it always did. Used by
+/// ray casts, point and box queries and shape casts (a moving body names itself in
+/// `ignore`, so that it never hits itself).
 typedef struct nt_query_filter {
     uint32_t mask;
     bool tiles;       ///< ray casts and shape casts: include the tiles
