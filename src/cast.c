@@ -32,6 +32,7 @@ typedef struct xings {
 typedef struct seg {
     nt_vec2 a, d;
     nt_real tmax, tiny;
+    nt_real tiny_per_t; /* rounding grows with the distance travelled: tiny + t * this */
 } seg;
 
 /* The first entry found so far. */
@@ -138,7 +139,7 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
         }
         if (in_run && (depth <= 0 || k == X->n)) {
             in_run = 0;
-            if (run_depth > s->tiny) {
+            if (run_depth > s->tiny + run_start * s->tiny_per_t) {
                 /* The curve crossed nearest to the run's start bounds it there. */
                 nt_vec2 n = run_n;
                 nt_real best = NT_REAL_MAX;
@@ -184,7 +185,7 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
     nt_real mid = R(0.5) * (lo + hi), depth = NT_REAL_MAX;
     for (int i = 0; i < nl; i++)
         depth = nt__min(depth, L[i][2] - (L[i][0] * (s->a.x + s->d.x * mid) + L[i][1] * (s->a.y + s->d.y * mid)));
-    if (!(depth > s->tiny)) return 0;
+    if (!(depth > s->tiny + lo * s->tiny_per_t)) return 0;
     int i = in_i >= 0 ? in_i : near_i;
     nt_vec2 n = nt_v2(L[i][0], L[i][1]);
     if (one_way && !(n.y < 0)) return 0; /* a convex region is entered once */
@@ -301,7 +302,8 @@ typedef struct caster {
     nt_vec2 p0, d;             /* cell units */
     nt_shape obj;              /* cell units, as given */
     nt_shape sweep;            /* the shape swept: obj shrunk by the resting depth */
-    nt_real tiny, tol;
+    nt_real tiny0, tol;        /* rounding at the start, and the resting limit */
+    nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
     int tiles;
     hitrec best;
 } caster;
@@ -310,7 +312,7 @@ typedef struct caster {
  * above, is ignored by the whole cast. depth/normal: its start overlap. */
 static int one_way_ignored(nt_real depth, nt_vec2 n, const caster *c)
 {
-    return depth > c->tiny && !(depth <= c->tol && n.y < 0);
+    return depth > c->tiny0 && !(depth <= c->tol && n.y < 0);
 }
 
 static int cell_one_way(const caster *c, int x, int y)
@@ -345,7 +347,7 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
  * towards the resting depth. Returns 1 when the cast is decided. */
 static int start_contact(caster *c, nt_real depth, nt_vec2 n, int kind, int cx, int cy, int32_t body, nt_real *rest)
 {
-    if (depth <= c->tiny) return 0;
+    if (depth <= c->tiny0) return 0;
     if (depth > c->tol) {
         c->best.t = 0;
         c->best.n = nt_v2(0, 0);
@@ -406,7 +408,8 @@ static void sweep_cell(caster *c, int x, int y, nt_real tmax)
     s.a = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
     s.d = c->d;
     s.tmax = tmax;
-    s.tiny = c->tiny;
+    s.tiny = c->tiny0;
+    s.tiny_per_t = c->tiny_per_t;
     nt_real t;
     nt_vec2 n;
     if (tile_entry(tile, &s, c->sweep, one_way, &t, &n) && t < c->best.t) {
@@ -496,7 +499,8 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     s.a = c->p0;
     s.d = c->d;
     s.tmax = nt__min(c->best.t, R(1));
-    s.tiny = c->tiny;
+    s.tiny = c->tiny0;
+    s.tiny_per_t = c->tiny_per_t;
     nt_real t;
     nt_vec2 n;
     if (body_entry(p, bs, &s, c->sweep, &t, &n) && t < c->best.t) {
@@ -554,10 +558,12 @@ static nt_vec2 contact_point(const caster *c, nt_vec2 q)
 /* The whole cast. Returns 1 on a hit (c->best). */
 static int run_cast(caster *c)
 {
-    nt_real mag = nt__max(nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y)),
-                          nt__max(nt__fabs(c->p0.x + c->d.x), nt__fabs(c->p0.y + c->d.y)));
-    c->tiny = R(16) * NT_REAL_EPS * nt__max(R(1), mag);
-    c->tol = nt__max(R(NT_CAST_START_TOLERANCE), 2 * c->tiny);
+    /* Rounding: 16 units in the last place of the start's coordinates, and of the way
+     * travelled (a long cast must not make what is near the start look shallow). */
+    nt_real mag0 = nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y));
+    c->tiny0 = R(16) * NT_REAL_EPS * nt__max(R(1), mag0);
+    c->tiny_per_t = R(16) * NT_REAL_EPS * (nt__fabs(c->d.x) + nt__fabs(c->d.y));
+    c->tol = nt__max(R(NT_CAST_START_TOLERANCE), 2 * c->tiny0);
     c->best.t = 2;
     c->best.kind = 0;
     c->best.n = nt_v2(0, 0);
@@ -577,7 +583,7 @@ static int run_cast(caster *c)
     /* Resting: sweep a shape smaller by the resting depth (and rounding). */
     c->sweep = c->obj;
     if (rest > 0) {
-        nt_real k = rest + c->tiny;
+        nt_real k = rest + c->tiny0;
         c->sweep.half = nt_v2(nt__max(c->obj.half.x - k, 0), nt__max(c->obj.half.y - k, 0));
     }
     if (c->tiles) sweep_tiles(c);

@@ -632,6 +632,36 @@ static void test_world_resting_body_slides(void **state)
     nt_world_destroy(w);
 }
 
+/* Very long casts: from inside the map one stops at the border (everything outside is
+ * FULL) where a short one does; from deep in the border one stops at once. Neither may
+ * take long: the walk ends at the first hit. */
+static void test_long_casts(void **state)
+{
+    (void)state;
+    int tiles[20 * 20] = {0};
+    nt_map *m = make_map(20, 20, tiles);
+    const ref_shape shapes[] = {ref_aabb(0.5, 1.0), ref_circle(0.3), ref_aabb(3.5, 2.0)};
+    for (int i = 0; i < 3; i++) {
+        ref_shape s = shapes[i];
+        nt_vec2 p = nt_v2((nt_real)(10 * CELL), (nt_real)(10 * CELL));
+        const double lens[3] = {20, 1e4, 1e7};
+        for (int k = 0; k < 3; k++) {
+            nt_shape_cast_hit hit;
+            assert_true(nt_map_cast_shape(m, p, to_nt(s), nt_v2((nt_real)(lens[k] * CELL), 0), &hit));
+            assert_true(fabs((double)hit.fraction * lens[k] - (10 - s.hw)) < 1e-3);
+            assert_true(hit.normal.x == -1 && hit.normal.y == 0);
+            assert_int_equal(hit.cell_x, 20);
+            assert_true(nt_map_cast_shape(m, p, to_nt(s), nt_v2((nt_real)(-lens[k] * CELL), (nt_real)(-lens[k] * CELL)), &hit));
+            assert_true(fabs((double)hit.fraction * lens[k] - (10 - fmax(s.hw, s.hh))) < 1e-3);
+            /* Deep in the border, far out: t = 0, no normal. */
+            assert_true(nt_map_cast_shape(m, nt_v2((nt_real)(-30 * CELL), (nt_real)(50 * CELL)), to_nt(s),
+                                          nt_v2((nt_real)(lens[k] * CELL), (nt_real)(-lens[k] * CELL)), &hit));
+            assert_true(hit.fraction == 0 && hit.normal.x == 0 && hit.normal.y == 0);
+        }
+    }
+    nt_map_destroy(m);
+}
+
 /* Both casts refuse the input: false, and the result zeroed over garbage. */
 static void expect_refused(const nt_map *m, const nt_world *w, nt_vec2 p, nt_shape s, nt_vec2 t)
 {
@@ -693,6 +723,7 @@ int main(void)
         cmocka_unit_test(test_filter),
         cmocka_unit_test(test_one_way),
         cmocka_unit_test(test_world_resting_body_slides),
+        cmocka_unit_test(test_long_casts),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
