@@ -191,6 +191,8 @@ typedef struct cand {
 } cand;
 
 #define MAX_CANDS 4
+/* Large objects: distinct push normals kept (see resolve_big). */
+#define BIG_CANDS 16
 
 /* Per-tile test in cell units; local coordinates keep float precision. */
 static int tile_test(int tile, nt_real lx, nt_real ly, nt_shape shape, nt_vec2 h, unsigned mask, nt_mtv *m)
@@ -288,6 +290,27 @@ static int is_free_strict(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     return depth_at(map, p, shape, h) <= R(8) * NT_REAL_EPS * mag;
 }
 
+/* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
+ * the first such tile.) */
+static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+{
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 1;
+        }
+    return 0;
+}
+
+static int big_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
+}
+
 /* The displacement d with d.n1 = depth1 and d.n2 = depth2 (the corner of two
  * push planes). Returns 0 when the planes are (nearly) parallel. */
 static int corner(const cand *a, const cand *b, nt_vec2 *d)
@@ -320,6 +343,55 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
         out->contacts[i].cell_x = cc[i]->cx;
         out->contacts[i].cell_y = cc[i]->cy;
     }
+}
+
+/* The shortest freeing push among the candidates: a single, shortest first, or a
+ * corner of two (which may be shorter than a freeing single that goes a long way
+ * round). Nothing shorter than lb, the deepest single-tile overlap, is taken: it
+ * could free the object only within the tolerance of the free test. Small objects
+ * (big = 0) keep their corners within 1.5 cells; large ones test freeness with the
+ * early-out scan (the same verdicts). */
+static int shortest_freeing(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
+                            int big, nt_resolution *out)
+{
+    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
+    nt_real max_corner = big ? NT_REAL_MAX : R(1.5);
+    int order[BIG_CANDS];
+    for (int i = 0; i < nc; i++) order[i] = i;
+    for (int i = 1; i < nc; i++)
+        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
+            int t = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = t;
+        }
+    nt_real best_len = NT_REAL_MAX;
+    int found = 0;
+    for (int k = 0; k < nc; k++) {
+        const cand *c = &cs[order[k]];
+        if (c->depth < floor_len) continue;
+        nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
+        if (big ? big_free(map, q, shape, h) : is_free(map, q, shape, h)) {
+            set_single(out, c);
+            best_len = c->depth;
+            found = 1;
+            break;
+        }
+    }
+    for (int i = 0; i < nc; i++)
+        for (int j = i + 1; j < nc; j++) {
+            nt_vec2 d;
+            if (!corner(&cs[i], &cs[j], &d)) continue;
+            nt_real len = nt__len(d);
+            if (len >= best_len || len > max_corner || len < floor_len) continue;
+            nt_vec2 q = nt__add(p, d);
+            if (big ? big_free(map, q, shape, h) : is_free(map, q, shape, h)) {
+                set_pair(out, d, &cs[i], &cs[j]);
+                best_len = len;
+                found = 1;
+            }
+        }
+    return found;
 }
 
 /* Best push from the candidates at p: shortest single or corner that frees the
@@ -373,44 +445,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
      * is_free, leaving it slightly inside, so it is not taken. */
     if (lb < 0) lb = depth_at(map, p, shape, h);
     *lower = lb;
-    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
-    /* Singles, shortest first. */
-    int order[MAX_CANDS];
-    for (int i = 0; i < nc; i++) order[i] = i;
-    for (int i = 1; i < nc; i++)
-        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
-            int t = order[j];
-            order[j] = order[j - 1];
-            order[j - 1] = t;
-        }
-    nt_real best_len = NT_REAL_MAX;
-    int found = 0;
-    for (int k = 0; k < nc; k++) {
-        const cand *c = &cs[order[k]];
-        if (c->depth < floor_len) continue;
-        nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
-        if (is_free(map, q, shape, h)) {
-            set_single(out, c);
-            best_len = c->depth;
-            found = 1;
-            break;
-        }
-    }
-    /* Corners: may be shorter than a freeing single (which can be a long way round). */
-    for (int i = 0; i < nc; i++)
-        for (int j = i + 1; j < nc; j++) {
-            nt_vec2 d;
-            if (!corner(&cs[i], &cs[j], &d)) continue;
-            nt_real len = nt__len(d);
-            if (len >= best_len || len > R(1.5) || len < floor_len) continue;
-            if (is_free(map, nt__add(p, d), shape, h)) {
-                set_pair(out, d, &cs[i], &cs[j]);
-                best_len = len;
-                found = 1;
-            }
-        }
-    return found;
+    return shortest_freeing(map, p, shape, h, cs, nc, lb, 0, out);
 }
 
 /* ---- exact enumeration ----
@@ -706,28 +741,7 @@ static nt_vec2 escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
  * come here: their path above is unchanged, bit for bit.
  * ------------------------------------------------------------------------------ */
 
-enum { BIG_CANDS = 16, BIG_SIDE = 12, BIG_FEATS = 128, BIG_POINTS = 256 };
-
-/* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
- * the first such tile.) */
-static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
-{
-    int x0, y0, x1, y1;
-    cell_range(p, h, &x0, &y0, &x1, &y1);
-    for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
-            if (t == NT_TILE_EMPTY) continue;
-            nt_mtv m;
-            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 1;
-        }
-    return 0;
-}
-
-static int big_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
-{
-    return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
-}
+enum { BIG_SIDE = 12, BIG_FEATS = 128, BIG_POINTS = 256 };
 
 /* What the overlapped tiles say at p. */
 typedef struct big_gather {
@@ -811,48 +825,6 @@ static int big_certificate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2
         }
     set_single(out, c);
     return 1;
-}
-
-/* Shortest freeing single or corner among the merged candidates (cf. best_candidate). */
-static int big_candidates(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const big_gather *g, nt_real lb,
-                          nt_resolution *out)
-{
-    const cand *cs = g->cs;
-    int nc = g->nc, order[BIG_CANDS];
-    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
-    for (int i = 0; i < nc; i++) order[i] = i;
-    for (int i = 1; i < nc; i++)
-        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
-            int t = order[j];
-            order[j] = order[j - 1];
-            order[j - 1] = t;
-        }
-    nt_real best_len = NT_REAL_MAX;
-    int found = 0;
-    for (int k = 0; k < nc; k++) {
-        const cand *c = &cs[order[k]];
-        if (c->depth < floor_len) continue;
-        if (big_free(map, nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth), shape, h)) {
-            set_single(out, c);
-            best_len = c->depth;
-            found = 1;
-            break;
-        }
-    }
-    for (int i = 0; i < nc; i++)
-        for (int j = i + 1; j < nc; j++) {
-            nt_vec2 d;
-            if (!corner(&cs[i], &cs[j], &d)) continue;
-            nt_real len = nt__len(d);
-            if (len >= best_len || len < floor_len) continue;
-            if (big_free(map, nt__add(p, d), shape, h)) {
-                set_pair(out, d, &cs[i], &cs[j]);
-                best_len = len;
-                found = 1;
-            }
-        }
-    return found;
 }
 
 /* The features of the tiles within reach, each once: BIG_FEATS on the stack, more
@@ -1086,7 +1058,7 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
         if (g.overlapped == 0) return false;
         if (big_certificate(map, p, shape, h, &g, res)) return true;
         nt_real lb = g.lb >= 0 ? g.lb : depth_at(map, p, shape, h);
-        int found = big_candidates(map, p, shape, h, &g, lb, res);
+        int found = shortest_freeing(map, p, shape, h, g.cs, g.nc, lb, 1, res);
         /* Optimal when no longer than the deepest single-tile overlap; otherwise the
          * curves within the candidate's length are enumerated. Without a candidate,
          * the reach starts two cells past the object's size and doubles until the

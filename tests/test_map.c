@@ -39,7 +39,7 @@ static int tile_of(char c)
     }
 }
 
-static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
+static nt_map *empty_map(int w, int h, nt_real cell)
 {
     nt_map_def d = nt_default_map_def();
     d.width = w;
@@ -47,6 +47,12 @@ static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
     d.cell_size = cell;
     nt_map *m = NULL;
     assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    return m;
+}
+
+static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
+{
+    nt_map *m = empty_map(w, h, cell);
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             int t = tile_of(rows[y][x]);
@@ -430,12 +436,7 @@ static void test_resolve_vs_union_reference(void **state)
     int n = 0, not_freed = 0, checked_free = 0;
     int tiles[W * H];
     uint8_t t8[W * H];
-    nt_map_def d = nt_default_map_def();
-    d.width = W;
-    d.height = H;
-    d.cell_size = 1;
-    nt_map *m;
-    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    nt_map *m = empty_map(W, H, 1);
     for (int attempt = 0; n < TRIALS && attempt < 20 * TRIALS; attempt++) {
         for (int i = 0; i < W * H; i++) {
             double u = urand();
@@ -545,12 +546,7 @@ static void test_resolve_large_vs_union_reference(void **state)
     enum { W = 12, H = 12, TRIALS = 700 };
     int tiles[W * H], n = 0, bad = 0, deep = 0;
     uint8_t t8[W * H];
-    nt_map_def d = nt_default_map_def();
-    d.width = W;
-    d.height = H;
-    d.cell_size = 1;
-    nt_map *m;
-    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    nt_map *m = empty_map(W, H, 1);
     ref_rng rng = ref_rng_seed(1818);
     for (int attempt = 0; n < TRIALS && attempt < 40 * TRIALS; attempt++) {
         if (attempt % 10 == 0) {
@@ -608,12 +604,7 @@ static void test_resolve_large_long_floor(void **state)
     int checked = 0;
     for (int ci = 0; ci < 2; ci++) {
         nt_real cs = cells[ci];
-        nt_map_def d = nt_default_map_def();
-        d.width = 34;
-        d.height = 10;
-        d.cell_size = cs;
-        nt_map *m;
-        assert_int_equal(nt_map_create(&d, &m), NT_OK);
+        nt_map *m = empty_map(34, 10, cs);
         for (int x = 2; x < 32; x++) assert_int_equal(nt_map_set_tile(m, x, 9, NT_TILE_FULL), NT_OK);
         for (int k = 0; k < 4; k++)
             for (int i = 0; i <= 300; i++) {
