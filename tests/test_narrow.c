@@ -828,7 +828,30 @@ static void test_reference_crosscheck(void **state)
         }
         agree += fabs(a - b) < 1e-7;
     }
-    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling)\n", n, maps, agree);
+    /* Large objects (half-size 0.5..2) in 6 x 6 maps, mostly EMPTY: the same checks. */
+    int big_maps = 0, big_agree = 0;
+    for (int i = 0; i < 120 && big_maps < 16; i++) {
+        int tiles[36];
+        for (int k = 0; k < 36; k++) tiles[k] = ref_rng_int(&rng, 3) ? 0 : ref_rng_int(&rng, 34);
+        ref_shape s = i & 1 ? ref_circle(ref_rng_uniform(&rng, 0.5, 2)) : ref_aabb(ref_rng_uniform(&rng, 0.5, 2), ref_rng_uniform(&rng, 0.1, 2));
+        double cx = ref_rng_uniform(&rng, s.hw, 6 - s.hw), cy = ref_rng_uniform(&rng, s.hh, 6 - s.hh);
+        if (!ref_object_overlaps_map(tiles, 6, 6, s, cx, cy)) continue;
+        double dx, dy;
+        double a = ref_mtv_map(tiles, 6, 6, s, cx, cy, &dx, &dy);
+        if (a < 0 || a > 1.5) continue; /* no room, or beyond what sampling reaches cheaply */
+        big_maps++;
+        double b = ref_mtv_map_sampled(tiles, 6, 6, s, cx, cy, 360, 2.0, NULL, NULL);
+        int witness = free_near(tiles, 6, 6, s, cx + dx, cy + dy, 1e-7) && fabs(hypot(dx, dy) - a) < 1e-12;
+        if (!witness || (b >= 0 && b < a - 1e-9)) {
+            print_message("reference large map #%d, %s at (%.17g, %.17g): candidates %.12g (witness %d), sampling %.12g\n",
+                          i, shape_str(s, buf, sizeof buf), cx, cy, a, witness, b);
+            bad++;
+        }
+        big_agree += fabs(a - b) < 1e-7;
+    }
+    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling), %d large map cases (%d agree)\n",
+                  n, maps, agree, big_maps, big_agree);
+    assert_true(big_maps >= 12 && big_agree >= big_maps - 2);
     assert_true(maps >= 30 && agree >= maps * 8 / 10);
     assert_int_equal(bad, 0);
 }
