@@ -925,35 +925,54 @@ static int big_features(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h,
 typedef struct big_point {
     nt_real d;
     nt_vec2 p;
-    short a, b; /* feature indices; b = -1 for a foot */
+    int a, b; /* feature indices; b = -1 for a foot */
+    int seq;  /* order of listing, for ties */
 } big_point;
 
 typedef struct big_search {
     big_point pt[BIG_POINTS];
     int n;
     nt_real best; /* distance of the nearest free point found */
-    int found;
+    int found, seq;
 } big_search;
 
-/* Test the waiting points nearest first (ties: the first listed); the first free
- * one beats the rest. Usually few are tested, so each is picked by a scan rather
- * than by sorting them all. */
+/* Heap order of the waiting points: nearer first, then the one listed first. */
+static int point_before(const big_point *a, const big_point *b)
+{
+    return a->d < b->d || (a->d == b->d && a->seq < b->seq);
+}
+
+static void sift_down(big_point *pt, int n, int i)
+{
+    for (;;) {
+        int l = 2 * i + 1, m = i;
+        if (l < n && point_before(&pt[l], &pt[m])) m = l;
+        if (l + 1 < n && point_before(&pt[l + 1], &pt[m])) m = l + 1;
+        if (m == i) return;
+        big_point t = pt[i];
+        pt[i] = pt[m];
+        pt[m] = t;
+        i = m;
+    }
+}
+
+/* Test the waiting points nearest first (a heap: deep inside a mass of tiles
+ * hundreds wait and many are not free); the first free one beats the rest. */
 static void big_flush(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, const big_feats *all, big_search *s,
                       nt_resolution *out)
 {
-    for (;;) {
-        int k = -1;
-        for (int i = 0; i < s->n; i++)
-            if (s->pt[i].d < s->best && (k < 0 || s->pt[i].d < s->pt[k].d)) k = i;
-        if (k < 0) break;
-        const big_point *q = &s->pt[k];
+    int n = s->n;
+    for (int i = n / 2 - 1; i >= 0; i--) sift_down(s->pt, n, i);
+    while (n > 0 && s->pt[0].d < s->best) {
+        const big_point *q = &s->pt[0];
         if (big_free(map, q->p, shape, h)) {
             s->best = q->d;
             s->found = 1;
             set_from_feats(out, c, q->p, &all->f[q->a], q->b >= 0 ? &all->f[q->b] : NULL);
             break;
         }
-        s->pt[k].d = NT_REAL_MAX; /* not free: done with it */
+        s->pt[0] = s->pt[--n];
+        sift_down(s->pt, n, 0);
     }
     s->n = 0;
 }
@@ -966,10 +985,11 @@ static void big_point_add(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 
     if (s->n == BIG_POINTS) big_flush(map, c, shape, h, all, s, out);
     if (!(d < s->best)) return;
     big_point *q = &s->pt[s->n++];
+    q->seq = s->seq++;
     q->d = d;
     q->p = p;
-    q->a = (short)a;
-    q->b = (short)b;
+    q->a = a;
+    q->b = b;
 }
 
 /* Nearest free point within reach of c (cf. enumerate): the feet first, which bound
@@ -985,7 +1005,7 @@ static int big_enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h
     big_search s;
     s.n = 0;
     s.best = reach;
-    s.found = 0;
+    s.found = s.seq = 0;
     for (int i = 0; i < all.n; i++) {
         nt_vec2 p;
         if (foot(&all.f[i], c, &p)) big_point_add(map, c, shape, h, &all, &s, p, i, -1, out);
