@@ -528,6 +528,11 @@ static int big_check(const nt_map *m, const int *tiles, ref_shape rs, double x, 
     else if (ref_object_overlaps_map(tiles, w, h, ref_shape_grow(rs, -tol), qx, qy)) why = "not freed";
     else if (len > rlen + tol) why = "longer than the shortest push";
     else if (len < rlen - tol) why = "shorter than the reference (freed within tolerance only)";
+    else if (r.contact_count < 1 || r.contact_count > 2) why = "no contact";
+    else
+        for (int i = 0; i < r.contact_count && !why; i++)
+            if (fabs(hypot((double)r.contacts[i].normal.x, (double)r.contacts[i].normal.y) - 1) > 1e-4)
+                why = "a contact normal is not unit length";
     if (why) {
         if ((*bad)++ < 10)
             print_error("%s: %s %.17g x %.17g at (%.17g, %.17g): push (%.9g, %.9g) len %.9g, reference (%.9g, %.9g) len %.9g\n",
@@ -685,6 +690,40 @@ static void test_resolve_large_slope_joins(void **state)
     nt_map_destroy(m);
 }
 
+/* Large objects with their centre deep in the border (outside the map, FULL) or
+ * in a map too small for them: freed when the map has room (the reference's
+ * overlap test), a zero push when it has none. */
+static void test_resolve_large_far_outside(void **state)
+{
+    (void)state;
+    enum { W = 12, H = 10 };
+    nt_map *m = empty_map(W, H, 1);
+    for (int x = 0; x < W; x++) assert_int_equal(nt_map_set_tile(m, x, H - 1, NT_TILE_FULL), NT_OK);
+    int tiles[W * H];
+    map_ints(m, tiles);
+    const double pos[6][2] = {{-9, 4}, {20, 3}, {5, -12}, {6, 30}, {-7, -7}, {25, 25}};
+    for (int k = 0; k < 6; k++)
+        for (int circle = 0; circle < 2; circle++) {
+            ref_shape rs = circle ? ref_circle(3.5) : ref_aabb(NT_MAX_HALF_CELLS, 2.25);
+            nt_shape sh = circle ? nt_shape_circle(R(3.5)) : nt_shape_aabb(R(NT_MAX_HALF_CELLS), R(2.25));
+            nt_resolution r;
+            assert_true(nt_map_resolve(m, nt_v2((nt_real)pos[k][0], (nt_real)pos[k][1]), sh, &r));
+            double qx = pos[k][0] + (double)r.push.x, qy = pos[k][1] + (double)r.push.y;
+            if (ref_object_overlaps_map(tiles, W, H, ref_shape_grow(rs, -BIG_TOL), qx, qy)) {
+                print_error("%s from (%g, %g): push (%g, %g) does not free it\n", circle ? "circle" : "box", pos[k][0],
+                            pos[k][1], (double)r.push.x, (double)r.push.y);
+                fail();
+            }
+        }
+    nt_map_destroy(m);
+    /* No room: a 4 x 4 map is narrower than the box. */
+    nt_map *small = empty_map(4, 4, 1);
+    nt_resolution r;
+    assert_true(nt_map_resolve(small, nt_v2(2, 2), nt_shape_aabb(R(3), R(3)), &r));
+    assert_true(r.push.x == 0 && r.push.y == 0 && r.contact_count == 1);
+    nt_map_destroy(small);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -702,6 +741,7 @@ int main(void)
         cmocka_unit_test(test_resolve_large_long_floor),
         cmocka_unit_test(test_resolve_large_slope_joins),
         cmocka_unit_test(test_resolve_large_vs_union_reference),
+        cmocka_unit_test(test_resolve_large_far_outside),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
