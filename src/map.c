@@ -191,6 +191,14 @@ typedef struct cand {
 } cand;
 
 #define MAX_CANDS 4
+
+/* A large object being resolved (cell units), for the helpers of resolve_big that
+ * test it at many places. */
+typedef struct probe {
+    const nt_map *map;
+    nt_shape shape;
+    nt_vec2 h;
+} probe;
 /* Large objects: distinct push normals kept (see resolve_big). */
 #define BIG_CANDS 16
 
@@ -306,10 +314,13 @@ static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2
     return 0;
 }
 
+/* is_free's verdict, by the early-out scan. */
 static int big_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
 }
+
+static int probe_free(const probe *o, nt_vec2 p) { return big_free(o->map, p, o->shape, o->h); }
 
 /* The displacement d with d.n1 = depth1 and d.n2 = depth2 (the corner of two
  * push planes). Returns 0 when the planes are (nearly) parallel. */
@@ -350,7 +361,9 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
  * round). Nothing shorter than lb, the deepest single-tile overlap, is taken: it
  * could free the object only within the tolerance of the free test. Small objects
  * (big = 0) keep their corners within 1.5 cells; large ones test freeness with the
- * early-out scan (the same verdicts). */
+ * early-out scan (the same verdicts). The scalar parameters, not a probe: the small
+ * path's caller is inlined into nt_map_resolve, where a struct cost 0.5 % of the
+ * particles scene. */
 static int shortest_freeing(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
                             int big, nt_resolution *out)
 {
@@ -754,9 +767,9 @@ typedef struct big_gather {
     int fits;
 } big_gather;
 
-static void big_collect(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, big_gather *g)
+static void big_collect(const probe *o, nt_vec2 p, big_gather *g)
 {
-    cell_range(p, h, &g->r4[0], &g->r4[1], &g->r4[2], &g->r4[3]);
+    cell_range(p, o->h, &g->r4[0], &g->r4[1], &g->r4[2], &g->r4[3]);
     const int x0 = g->r4[0], y0 = g->r4[1], x1 = g->r4[2], y1 = g->r4[3];
     g->nc = g->dropped = g->overlapped = g->pushes = 0;
     g->all_convex = 1;
@@ -765,11 +778,11 @@ static void big_collect(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h,
     if (g->fits) memset(g->hit, 0, sizeof g->hit);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = nt__map_cell(map, x, y);
+            nt__cell cell = nt__map_cell(o->map, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
-            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, cell.seams, &m);
+            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, o->shape, o->h, cell.seams, &m);
             if (r == NT__SEPARATE) continue;
             g->overlapped++;
             if (g->fits) g->hit[(y - y0) * BIG_SIDE + (x - x0)] = 1;
@@ -802,14 +815,13 @@ static void big_collect(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h,
 /* Certificate: every overlapped tile is convex (or it is the only one) and pushes
  * along the same normal: the deepest push clears them all; it is the answer when
  * no other tile overlaps at the new place. */
-static int big_certificate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const big_gather *g,
-                           nt_resolution *out)
+static int big_certificate(const probe *o, nt_vec2 p, const big_gather *g, nt_resolution *out)
 {
     if (g->nc != 1 || g->dropped || g->pushes != g->overlapped || !(g->all_convex || g->overlapped == 1)) return 0;
     const cand *c = &g->cs[0];
     nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
     int c0, d0, c1, d1;
-    cell_range(q, h, &c0, &d0, &c1, &d1);
+    cell_range(q, o->h, &c0, &d0, &c1, &d1);
     nt_real tol = free_tolerance(q);
     const int x0 = g->r4[0], y0 = g->r4[1], x1 = g->r4[2], y1 = g->r4[3];
     for (int y = d0; y <= d1; y++)
@@ -818,10 +830,11 @@ static int big_certificate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2
             if (g->all_convex && g->fits && x >= x0 && x <= x1 && y >= y0 && y <= y1 &&
                 g->hit[(y - y0) * BIG_SIDE + (x - x0)])
                 continue;
-            int t = nt__map_tile(map, x, y);
+            int t = nt__map_tile(o->map, x, y);
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
-            if (tile_test(t, q.x - (nt_real)x, q.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 0;
+            if (tile_test(t, q.x - (nt_real)x, q.y - (nt_real)y, o->shape, o->h, 0, &m) == NT__PUSH && m.depth > tol)
+                return 0;
         }
     set_single(out, c);
     return 1;
@@ -888,8 +901,10 @@ static int vertex_hidden(int t, int vi, unsigned seams)
     return adjacent == 2 && hidden == 2;
 }
 
-static int big_features(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_real reach, big_feats *all)
+static int big_features(const probe *o, nt_vec2 c, nt_real reach, big_feats *all)
 {
+    const nt_shape shape = o->shape;
+    const nt_vec2 h = o->h;
     all->n = 0;
     int x0 = nt__floor_int(c.x - h.x - reach), x1 = nt__floor_int(c.x + h.x + reach);
     int y0 = nt__floor_int(c.y - h.y - reach), y1 = nt__floor_int(c.y + h.y + reach);
@@ -897,7 +912,7 @@ static int big_features(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h,
     nt_vec2 off = shape.type == NT_SHAPE_CIRCLE ? nt_v2(h.x, h.x) : h;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = nt__map_cell(map, x, y);
+            nt__cell cell = nt__map_cell(o->map, x, y);
             if (cell.tile == NT_TILE_EMPTY) continue;
             feats one; /* a tile has at most 9 curves */
             one.n = 0;
@@ -930,6 +945,10 @@ typedef struct big_point {
 } big_point;
 
 typedef struct big_search {
+    const probe *o;
+    nt_vec2 c;             /* the object's centre */
+    const big_feats *all;  /* the curves the points lie on */
+    nt_resolution *out;    /* the nearest free point, when found */
     big_point pt[BIG_POINTS];
     int n;
     nt_real best; /* distance of the nearest free point found */
@@ -958,17 +977,16 @@ static void sift_down(big_point *pt, int n, int i)
 
 /* Test the waiting points nearest first (a heap: deep inside a mass of tiles
  * hundreds wait and many are not free); the first free one beats the rest. */
-static void big_flush(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, const big_feats *all, big_search *s,
-                      nt_resolution *out)
+static void big_flush(big_search *s)
 {
     int n = s->n;
     for (int i = n / 2 - 1; i >= 0; i--) sift_down(s->pt, n, i);
     while (n > 0 && s->pt[0].d < s->best) {
         const big_point *q = &s->pt[0];
-        if (big_free(map, q->p, shape, h)) {
+        if (probe_free(s->o, q->p)) {
             s->best = q->d;
             s->found = 1;
-            set_from_feats(out, c, q->p, &all->f[q->a], q->b >= 0 ? &all->f[q->b] : NULL);
+            set_from_feats(s->out, s->c, q->p, &s->all->f[q->a], q->b >= 0 ? &s->all->f[q->b] : NULL);
             break;
         }
         s->pt[0] = s->pt[--n];
@@ -977,12 +995,11 @@ static void big_flush(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, c
     s->n = 0;
 }
 
-static void big_point_add(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, const big_feats *all,
-                          big_search *s, nt_vec2 p, int a, int b, nt_resolution *out)
+static void big_point_add(big_search *s, nt_vec2 p, int a, int b)
 {
-    nt_real d = nt__len(nt__sub(p, c));
+    nt_real d = nt__len(nt__sub(p, s->c));
     if (!(d < s->best)) return;
-    if (s->n == BIG_POINTS) big_flush(map, c, shape, h, all, s, out);
+    if (s->n == BIG_POINTS) big_flush(s);
     if (!(d < s->best)) return;
     big_point *q = &s->pt[s->n++];
     q->seq = s->seq++;
@@ -994,33 +1011,37 @@ static void big_point_add(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 
 
 /* Nearest free point within reach of c (cf. enumerate): the feet first, which bound
  * the crossings worth looking at. */
-static int big_enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_real reach, nt_resolution *out)
+static int big_enumerate(const probe *o, nt_vec2 c, nt_real reach, nt_resolution *out)
 {
     big_feats all;
     all.f = all.own;
     all.heap = NULL;
     all.cap = BIG_FEATS;
     /* Out of memory: look less far (exact within the smaller reach). */
-    while (!big_features(map, c, shape, h, reach, &all)) reach *= R(0.5);
+    while (!big_features(o, c, reach, &all)) reach *= R(0.5);
     big_search s;
+    s.o = o;
+    s.c = c;
+    s.all = &all;
+    s.out = out;
     s.n = 0;
     s.best = reach;
     s.found = s.seq = 0;
     for (int i = 0; i < all.n; i++) {
         nt_vec2 p;
-        if (foot(&all.f[i], c, &p)) big_point_add(map, c, shape, h, &all, &s, p, i, -1, out);
+        if (foot(&all.f[i], c, &p)) big_point_add(&s, p, i, -1);
     }
-    big_flush(map, c, shape, h, &all, &s, out);
+    big_flush(&s);
     for (int i = 0; i < all.n; i++) {
         if (feat_distance(&all.f[i], c) >= s.best) continue;
         for (int j = i + 1; j < all.n; j++) {
             if (feat_distance(&all.f[j], c) >= s.best) continue;
             nt_vec2 pts[2];
             int k = cross(&all.f[i], &all.f[j], pts);
-            for (int m = 0; m < k; m++) big_point_add(map, c, shape, h, &all, &s, pts[m], i, j, out);
+            for (int m = 0; m < k; m++) big_point_add(&s, pts[m], i, j);
         }
     }
-    big_flush(map, c, shape, h, &all, &s, out);
+    big_flush(&s);
     nt__free(all.heap);
     return s.found;
 }
@@ -1036,11 +1057,13 @@ static nt_real clamp_in(nt_real v, nt_real half, int side)
 /* Last resort (cf. escape), sized for the object: centres that put it in the middle
  * or at a quarter of a cell, or flush with a cell's side. Returns 0 when none of
  * them within 32 cells is free (no room that way for the object). */
-static int big_escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
+static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
 {
+    const nt_map *map = o->map;
+    const nt_vec2 h = o->h;
     nt_vec2 q = nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h));
     *d = nt__sub(q, p);
-    if (big_free(map, q, shape, h)) return 1;
+    if (probe_free(o, q)) return 1;
     int cx = (int)nt__clamp(nt__floor(q.x), 0, (nt_real)(map->w - 1));
     int cy = (int)nt__clamp(nt__floor(q.y), 0, (nt_real)(map->h - 1));
     const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
@@ -1054,7 +1077,7 @@ static int big_escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, n
                 for (int i = 0; i < 36; i++) {
                     nt_vec2 c = nt_v2((nt_real)x + ox[i % 6], (nt_real)y + oy[i / 6]);
                     nt_real dist = nt__len(nt__sub(c, p));
-                    if (dist < best && big_free(map, c, shape, h)) {
+                    if (dist < best && probe_free(o, c)) {
                         best = dist;
                         *d = nt__sub(c, p);
                     }
@@ -1067,17 +1090,18 @@ static int big_escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, n
 /* nt_map_resolve for a large object, in cell units (p, h); res is zeroed. */
 NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
 {
+    const probe obj = {map, shape, h}, *o = &obj;
     const nt_real far_x = R(1.5) + h.x, far_y = R(1.5) + h.y;
     nt_vec2 d;
     if (p.x < -far_x || p.y < -far_y || p.x > (nt_real)map->w + far_x || p.y > (nt_real)map->h + far_y) {
         /* Far inside the border: come back into the map first. */
-        if (!big_escape(map, p, shape, h, &d)) d = nt__sub(nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h)), p);
+        if (!big_escape(o, p, &d)) d = nt__sub(nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h)), p);
     } else {
         big_gather g;
-        big_collect(map, p, shape, h, &g);
+        big_collect(o, p, &g);
         if (g.overlapped == 0) return false;
-        if (big_certificate(map, p, shape, h, &g, res)) return true;
-        nt_real lb = g.lb >= 0 ? g.lb : depth_at(map, p, shape, h);
+        if (big_certificate(o, p, &g, res)) return true;
+        nt_real lb = g.lb >= 0 ? g.lb : depth_at(map, p, o->shape, h);
         int found = shortest_freeing(map, p, shape, h, g.cs, g.nc, lb, 1, res);
         /* Optimal when no longer than the deepest single-tile overlap; otherwise the
          * curves within the candidate's length are enumerated. Without a candidate,
@@ -1090,7 +1114,7 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
             for (;;) {
                 nt_resolution e;
                 memset(&e, 0, sizeof e);
-                if (big_enumerate(map, p, shape, h, len, &e)) {
+                if (big_enumerate(o, p, len, &e)) {
                     *res = e;
                     found = 1;
                 }
@@ -1099,7 +1123,7 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
             }
         if (found) return true;
         /* No room for the object within the map: the nearest centre found, or none. */
-        if (!big_escape(map, p, shape, h, &d)) d = nt_v2(0, 0);
+        if (!big_escape(o, p, &d)) d = nt_v2(0, 0);
     }
     nt_real l = nt__len(d);
     res->push = d;
