@@ -475,6 +475,12 @@ static nt_real concave_dist(nt_real x, nt_real y)
     return g;
 }
 
+nt_real nt__concave_gap(int tile, nt_vec2 c)
+{
+    canon k = to_canon(tile, c, 0);
+    return concave_dist(k.x, k.y);
+}
+
 typedef struct curve {
     int circle;
     nt_real a, b, c; /* line: a*x + b*y = c (unit normal); circle: centre (a, b), radius c */
