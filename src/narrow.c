@@ -475,6 +475,12 @@ static nt_real concave_dist(nt_real x, nt_real y)
     return g;
 }
 
+nt_real nt__concave_gap(int tile, nt_vec2 c)
+{
+    canon k = to_canon(tile, c, 0);
+    return concave_dist(k.x, k.y);
+}
+
 typedef struct curve {
     int circle;
     nt_real a, b, c; /* line: a*x + b*y = c (unit normal); circle: centre (a, b), radius c */
@@ -549,7 +555,10 @@ static void curve_cross(near_free *nf, const curve *u, const curve *v)
 NT__NOINLINE static int circle_concave_large(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     canon k = to_canon(tile, c, mask);
-    if (concave_dist(k.x, k.y) >= r) return NT__SEPARATE;
+    /* Free within the tolerance that the candidates below are held to: a touching
+     * centre a rounding error inside is its own foot, a move of length 0. */
+    nt_real tol = R(4) * NT_REAL_EPS * (2 + r);
+    if (concave_dist(k.x, k.y) >= r - tol) return NT__SEPARATE;
     curve cv[8];
     int n = 0;
     cv[n++] = (curve){0, 0, -1, r};     /* y = -r */
@@ -564,7 +573,7 @@ NT__NOINLINE static int circle_concave_large(int tile, nt_vec2 c, nt_real r, uns
     }
     if (!k.mleft && !k.mbottom) cv[n++] = (curve){1, 0, 1, r}; /* corner (0,1) */
     if (r < 1) cv[n++] = (curve){1, 1, 0, 1 - r};                 /* the hollow */
-    near_free nf = {k.x, k.y, r, R(4) * NT_REAL_EPS * (2 + r), NT_REAL_MAX, 0, 0};
+    near_free nf = {k.x, k.y, r, tol, NT_REAL_MAX, 0, 0};
     for (int i = 0; i < n; i++) curve_foot(&nf, &cv[i]);
     for (int i = 0; i < n; i++)
         for (int j = i + 1; j < n; j++) curve_cross(&nf, &cv[i], &cv[j]);

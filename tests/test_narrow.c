@@ -110,45 +110,6 @@ static int check_placement(const char *label, int tile, ref_shape s, double cx, 
 
 /* --------------------------------------------------- (a) random placements */
 
-static void run_random(int circle, int per_tile, unsigned long long seed)
-{
-    int failures = 0, overlaps = 0, checked = 0;
-    g_api_mismatch = 0;
-    g_max_err = 0;
-    for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
-        ref_rng rng = ref_rng_seed(seed * 1000 + (unsigned long long)tile);
-        int tile_overlaps = 0;
-        for (int i = 0; i < per_tile; i++) {
-            ref_shape s = circle ? ref_circle(rr(ref_rng_uniform(&rng, 0.02, 0.5)))
-                                 : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
-            if (i % 20 == 0) s = circle ? ref_circle(0) : ref_aabb(0, 0); /* a point */
-            double cx = rr(ref_rng_uniform(&rng, -0.6, 1.6)), cy = rr(ref_rng_uniform(&rng, -0.6, 1.6));
-            int r = check_placement("", tile, s, cx, cy, &failures);
-            checked += r >= 0;
-            overlaps += r > 0;
-            tile_overlaps += r > 0;
-        }
-        /* Enough overlapping placements per tile for the depth checks to mean something. */
-        if (tile_overlaps < per_tile / 8) fail_msg("%s: only %d overlaps", ref_tile_name(tile), tile_overlaps);
-    }
-    print_message("%s: %d placements checked, %d overlapping, %d failures, largest depth error %.3g\n",
-                  circle ? "circle" : "box", checked, overlaps, failures, g_max_err);
-    assert_int_equal(g_api_mismatch, 0);
-    assert_int_equal(failures, 0);
-}
-
-static void test_random_box(void **state)
-{
-    (void)state;
-    run_random(0, 2000, 11);
-}
-
-static void test_random_circle(void **state)
-{
-    (void)state;
-    run_random(1, 2000, 12);
-}
-
 /* Bodies up to NT_MAX_HALF_CELLS (issue 18): half-sizes 0.5..4 cells, boxes also thin
  * one way (0.02..0.3 against up to 4, e.g. a 0.1 x 4 plank), centres anywhere the object
  * can reach the tile. */
@@ -162,40 +123,64 @@ static ref_shape large_shape(ref_rng *rng, int circle)
     return ref_aabb(a, b);
 }
 
-static void run_random_large(int circle, int per_tile, unsigned long long seed)
+static void run_random(int circle, int large, int per_tile, unsigned long long seed)
 {
-    int failures = 0, overlaps = 0;
+    int failures = 0, overlaps = 0, checked = 0;
     g_api_mismatch = 0;
     g_max_err = 0;
     for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
         ref_rng rng = ref_rng_seed(seed * 1000 + (unsigned long long)tile);
         int tile_overlaps = 0;
         for (int i = 0; i < per_tile; i++) {
-            ref_shape s = large_shape(&rng, circle);
-            double cx = rr(ref_rng_uniform(&rng, -0.3 - s.hw, 1.3 + s.hw));
-            double cy = rr(ref_rng_uniform(&rng, -0.3 - s.hh, 1.3 + s.hh));
-            int r = check_placement("large: ", tile, s, cx, cy, &failures);
+            ref_shape s;
+            double cx, cy;
+            if (large) {
+                s = large_shape(&rng, circle);
+                cx = rr(ref_rng_uniform(&rng, -0.3 - s.hw, 1.3 + s.hw));
+                cy = rr(ref_rng_uniform(&rng, -0.3 - s.hh, 1.3 + s.hh));
+            } else {
+                s = circle ? ref_circle(rr(ref_rng_uniform(&rng, 0.02, 0.5)))
+                           : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
+                if (i % 20 == 0) s = circle ? ref_circle(0) : ref_aabb(0, 0); /* a point */
+                cx = rr(ref_rng_uniform(&rng, -0.6, 1.6));
+                cy = rr(ref_rng_uniform(&rng, -0.6, 1.6));
+            }
+            int r = check_placement(large ? "large: " : "", tile, s, cx, cy, &failures);
+            checked += r >= 0;
             overlaps += r > 0;
             tile_overlaps += r > 0;
         }
+        /* Enough overlapping placements per tile for the depth checks to mean something. */
         if (tile_overlaps < per_tile / 8) fail_msg("%s: only %d overlaps", ref_tile_name(tile), tile_overlaps);
     }
-    print_message("large %s: %d overlapping, %d failures, largest depth error %.3g\n", circle ? "circle" : "box",
-                  overlaps, failures, g_max_err);
+    print_message("%s%s: %d placements checked, %d overlapping, %d failures, largest depth error %.3g\n",
+                  large ? "large " : "", circle ? "circle" : "box", checked, overlaps, failures, g_max_err);
     assert_int_equal(g_api_mismatch, 0);
     assert_int_equal(failures, 0);
+}
+
+static void test_random_box(void **state)
+{
+    (void)state;
+    run_random(0, 0, 2000, 11);
+}
+
+static void test_random_circle(void **state)
+{
+    (void)state;
+    run_random(1, 0, 2000, 12);
 }
 
 static void test_random_large_box(void **state)
 {
     (void)state;
-    run_random_large(0, 1500, 31);
+    run_random(0, 1, 1500, 31);
 }
 
 static void test_random_large_circle(void **state)
 {
     (void)state;
-    run_random_large(1, 1500, 32);
+    run_random(1, 1, 1500, 32);
 }
 
 /* Large objects with their surface near the tile's: the box's corner (or the circle's
@@ -843,7 +828,30 @@ static void test_reference_crosscheck(void **state)
         }
         agree += fabs(a - b) < 1e-7;
     }
-    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling)\n", n, maps, agree);
+    /* Large objects (half-size 0.5..2) in 6 x 6 maps, mostly EMPTY: the same checks. */
+    int big_maps = 0, big_agree = 0;
+    for (int i = 0; i < 120 && big_maps < 16; i++) {
+        int tiles[36];
+        for (int k = 0; k < 36; k++) tiles[k] = ref_rng_int(&rng, 3) ? 0 : ref_rng_int(&rng, 34);
+        ref_shape s = i & 1 ? ref_circle(ref_rng_uniform(&rng, 0.5, 2)) : ref_aabb(ref_rng_uniform(&rng, 0.5, 2), ref_rng_uniform(&rng, 0.1, 2));
+        double cx = ref_rng_uniform(&rng, s.hw, 6 - s.hw), cy = ref_rng_uniform(&rng, s.hh, 6 - s.hh);
+        if (!ref_object_overlaps_map(tiles, 6, 6, s, cx, cy)) continue;
+        double dx, dy;
+        double a = ref_mtv_map(tiles, 6, 6, s, cx, cy, &dx, &dy);
+        if (a < 0 || a > 1.5) continue; /* no room, or beyond what sampling reaches cheaply */
+        big_maps++;
+        double b = ref_mtv_map_sampled(tiles, 6, 6, s, cx, cy, 360, 2.0, NULL, NULL);
+        int witness = free_near(tiles, 6, 6, s, cx + dx, cy + dy, 1e-7) && fabs(hypot(dx, dy) - a) < 1e-12;
+        if (!witness || (b >= 0 && b < a - 1e-9)) {
+            print_message("reference large map #%d, %s at (%.17g, %.17g): candidates %.12g (witness %d), sampling %.12g\n",
+                          i, shape_str(s, buf, sizeof buf), cx, cy, a, witness, b);
+            bad++;
+        }
+        big_agree += fabs(a - b) < 1e-7;
+    }
+    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling), %d large map cases (%d agree)\n",
+                  n, maps, agree, big_maps, big_agree);
+    assert_true(big_maps >= 12 && big_agree >= big_maps - 2);
     assert_true(maps >= 30 && agree >= maps * 8 / 10);
     assert_int_equal(bad, 0);
 }
