@@ -1,4 +1,49 @@
-/* ntile — moving a character: exact shape casts (the character mover will follow).
+/* ntile — moving a character: exact shape casts and the character mover.
+ *
+ * THE CHARACTER MOVER
+ *
+ * A character is a dynamic or kinematic body that the game moves itself, once a step,
+ * the way Godot's CharacterBody2D.move_and_slide and Box2D's mover do: cast and slide.
+ *
+ *     nt_character_def cd = nt_default_character_def();   // 50-degree floors, snap, step-up
+ *     nt_character_create(world, player, &cd);
+ *     ...each step:
+ *     vel.x = input * run_speed;
+ *     vel.y += gravity * dt;                                 // your gravity, your jump
+ *     if (jump && on_floor) vel.y = -jump_speed;
+ *     nt_character_result r;
+ *     nt_character_move(world, player, vel, dt, &r);
+ *     vel = r.velocity;                                      // slid along what it met
+ *     on_floor = r.on_floor;
+ *     nt_world_step(world, dt);
+ *
+ * nt_character_move moves the body by velocity * dt at once: cast against the tiles
+ * (edge states: seams never stop it; one-way cells from above only) and the bodies that
+ * stop it, sliding along what it meets (at most max_slides casts). Then:
+ *  - Floors, walls, ceilings: a surface is a floor when its normal is within
+ *    floor_angle of straight up (default 50 degrees: 45-degree slopes are floors,
+ *    63.4-degree ones walls), a ceiling within floor_angle of straight down, else a wall.
+ *  - Stop on slope (default on): on a floor the downward part of the motion is the
+ *    floor's to carry, so standing still on a slope does not slide down, and running
+ *    up or down it goes along it. Constant speed on slopes (default off): the motion
+ *    along a floor keeps the horizontal length it had.
+ *  - Step-up: a wall met while on a floor that is a step no higher than step_cells
+ *    (default half a cell: a HALF tile's edge) is climbed without a jump.
+ *  - Floor snap: a character that stood on a floor and is not moving up is moved down
+ *    onto the floor below, up to snap_cells (default half a cell): it runs down ramps
+ *    without leaving them.
+ *  - Moving platforms: standing on a body (a kinematic platform, a crate), it is carried
+ *    by that body's velocity over the step (the body moves as much in the world step),
+ *    horizontally, vertically and diagonally, down included; leaving it (a jump, a walk
+ *    off its edge) adds its velocity to the returned velocity.
+ *  - Pushing: dynamic bodies do not stop a character (unless collide_dynamic); the
+ *    world step then pushes those it overlaps out of its way, the character counting as
+ *    infinitely heavy (as a kinematic body does). Static and kinematic bodies stop it.
+ *  - One-way cells: nt_character_drop_through lets it fall through the one-way floor
+ *    it stands on, until it is clear of one-way cells.
+ * While it is a character, the world step treats the body as kinematic and does not move
+ * it (no gravity, no tiles: the mover did that); nt_body_get_type still says what it was
+ * created as, and nt_character_destroy gives it back to the world step.
  *
  * A shape cast sweeps a box or circle (half-size up to NT_MAX_HALF_CELLS cells, never
  * rotating) from `pos` along `translation` and reports the first thing it meets: the
@@ -77,6 +122,59 @@ typedef struct nt_world_shape_hit {
 /// NULL world) returns false with a zero result.
 bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
                          nt_query_filter filter, nt_world_shape_hit *out);
+
+/// Character settings: fill with nt_default_character_def() then adjust.
+typedef struct nt_character_def {
+    nt_real floor_angle;           ///< radians in [0, pi/2]: steepest surface that is a floor (default 50 degrees)
+    nt_real snap_cells;            ///< floor snap distance in cells, [0, 8] (default 0.5); 0: no snap
+    nt_real step_cells;            ///< highest step climbed without a jump, cells, [0, 8] (default 0.5); 0: none
+    bool stop_on_slope;            ///< standing still on a slope does not slide down (default true)
+    bool constant_speed_on_slopes; ///< motion along a floor keeps its horizontal length (default false)
+    bool slide_on_walls;           ///< on a floor, slide along walls met at an angle (default true)
+    bool collide_dynamic;          ///< dynamic bodies stop the character like walls (default false: it pushes them)
+    int max_slides;                ///< casts per move, 1..16 (default 4)
+} nt_character_def;
+
+/// Defaults: 50-degree floors, snap and step-up of half a cell, stop on slope, 4 slides.
+nt_character_def nt_default_character_def(void);
+
+/// Make a dynamic or kinematic body a character (or change its settings). Errors:
+/// NT_ERR_INVALID_ID, NT_ERR_INVALID_ARGUMENT (a static body or a sensor, NULL, settings
+/// out of range), NT_ERR_NON_FINITE, NT_ERR_OUT_OF_MEMORY. Destroying the body ends it.
+nt_status nt_character_create(nt_world *world, nt_body_id id, const nt_character_def *def);
+
+/// Give a character back to the world step as the body it was created as.
+nt_status nt_character_destroy(nt_world *world, nt_body_id id);
+
+/// True when the handle names a live body that is a character.
+bool nt_character_is_valid(const nt_world *world, nt_body_id id);
+
+/// What a character move did and met.
+typedef struct nt_character_result {
+    nt_vec2 position;       ///< where it ended
+    nt_vec2 velocity;       ///< the velocity to keep: slid along what it met (plus a platform's when leaving it)
+    bool on_floor, on_wall, on_ceiling;
+    nt_vec2 floor_normal, wall_normal, ceiling_normal; ///< of the surfaces met (zero when not)
+    nt_body_id floor_body;  ///< the body it stands on; null for a tile or no floor
+    int floor_cell_x, floor_cell_y; ///< the floor tile's cell (floor_body null, on_floor)
+    nt_vec2 floor_velocity; ///< the floor body's velocity (a moving platform's); zero for tiles
+    bool snapped;           ///< moved down onto the floor by the snap
+    bool stepped_up;        ///< climbed a step
+    bool landed;            ///< on a floor now, not before this move
+    int slide_count;        ///< surfaces met while sliding
+} nt_character_result;
+
+/// Move a character by velocity * dt (world units per second, clamped to the world's
+/// speed limit), sliding, stepping up and snapping as its settings say, carried by the
+/// body it stands on (see the top of this header). Sets the body's position, and its
+/// velocity to the displacement over dt for the world step's contacts. Errors:
+/// NT_ERR_INVALID_ARGUMENT (NULL, dt <= 0), NT_ERR_NON_FINITE, NT_ERR_INVALID_ID (not a
+/// character); the world is then unchanged and *out zero.
+nt_status nt_character_move(nt_world *world, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out);
+
+/// Let the character fall through the one-way floor it stands on: one-way cells do not
+/// stop it until it is clear of them.
+nt_status nt_character_drop_through(nt_world *world, nt_body_id id);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,393 @@
+/* The character mover: a body moved by cast-and-slide instead of the world step.
+ *
+ * A character is a dynamic or kinematic body with a record here (world->chars). While
+ * it is one, the world step treats it as kinematic and does not move it: the game
+ * calls nt_character_move once a step, which
+ *   1. carries it with the body it stands on (a moving platform), by that body's
+ *      velocity times dt, cast like any motion;
+ *   2. moves it by velocity * dt, cast against the tiles and the bodies that stop it
+ *      (static and kinematic bodies; dynamic ones too with collide_dynamic), sliding
+ *      along what it meets, up to max_slides times; a wall met on the floor may be a
+ *      step it climbs;
+ *   3. snaps it down onto the floor when it stood on one and is not moving up;
+ * and sets the body's velocity to the displacement over dt, so that the contact solver
+ * pushes the dynamic bodies in its way as a kinematic body's would. Every cast starts
+ * where the last one ended (resting on a surface counts as free, see character.h).
+ */
+#include <math.h>
+#include "core.h"
+
+nt_character_def nt_default_character_def(void)
+{
+    nt_character_def d;
+    memset(&d, 0, sizeof d);
+    d.floor_angle = R(0.87266462599716477); /* 50 degrees: 45 is a floor, 63.4 a wall */
+    d.snap_cells = R(0.5);
+    d.step_cells = R(0.5);
+    d.stop_on_slope = true;
+    d.constant_speed_on_slopes = false;
+    d.slide_on_walls = true;
+    d.collide_dynamic = false;
+    d.max_slides = 4;
+    return d;
+}
+
+static int finite2(nt_vec2 v) { return nt__finite(v.x) && nt__finite(v.y); }
+
+static nt_status check_def(const nt_character_def *d)
+{
+    if (!nt__finite(d->floor_angle) || !nt__finite(d->snap_cells) || !nt__finite(d->step_cells))
+        return NT_ERR_NON_FINITE;
+    if (d->floor_angle < 0 || d->floor_angle > R(1.5707963267948966)) return NT_ERR_INVALID_ARGUMENT;
+    if (d->snap_cells < 0 || d->snap_cells > NT_MAX_HALF_CELLS * 2) return NT_ERR_INVALID_ARGUMENT;
+    if (d->step_cells < 0 || d->step_cells > NT_MAX_HALF_CELLS * 2) return NT_ERR_INVALID_ARGUMENT;
+    if (d->max_slides < 1 || d->max_slides > 16) return NT_ERR_INVALID_ARGUMENT;
+    return NT_OK;
+}
+
+/* The character record of a live body, or NULL. */
+static nt__character *char_of(const nt_world *w, nt_body_id id)
+{
+    if (!w || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
+    const nt__body *b = &w->bodies[id.index1 - 1];
+    if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NULL;
+    int32_t k = w->cold[id.index1 - 1].character;
+    return k >= 0 ? &w->chars[k] : NULL;
+}
+
+nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def *def)
+{
+    if (!w || !def) return NT_ERR_INVALID_ARGUMENT;
+    if (id.index1 <= 0 || id.index1 > w->body_hwm) return NT_ERR_INVALID_ID;
+    nt__body *b = &w->bodies[id.index1 - 1];
+    if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NT_ERR_INVALID_ID;
+    nt_status s = check_def(def);
+    if (s != NT_OK) return s;
+    int32_t i = id.index1 - 1;
+    if (w->cold[i].character >= 0) {
+        w->chars[w->cold[i].character].def = *def; /* new settings, same state */
+        return NT_OK;
+    }
+    if (b->type == NT_BODY_STATIC || (b->flags & NT__BF_SENSOR)) return NT_ERR_INVALID_ARGUMENT;
+    if (w->char_count == w->char_cap) {
+        nt__character *p = (nt__character *)nt__grow(w->chars, w->char_count, &w->char_cap, w->char_count + 1, sizeof *p);
+        if (!p) return NT_ERR_OUT_OF_MEMORY;
+        w->chars = p;
+    }
+    nt__character *c = &w->chars[w->char_count];
+    memset(c, 0, sizeof *c);
+    c->body = i;
+    c->def = *def;
+    c->type = b->type;
+    c->floor_body = -1;
+    w->cold[i].character = w->char_count++;
+    /* The world step sees a kinematic body: no gravity, no tiles, infinite mass, never
+     * asleep, pushing dynamic bodies; nt_character_move moves it. */
+    if (b->type == NT_BODY_DYNAMIC) nt__set_kinematic(w, i, true);
+    return NT_OK;
+}
+
+void nt__character_remove(nt_world *w, int32_t i)
+{
+    int32_t k = w->cold[i].character;
+    if (k < 0) return;
+    w->cold[i].character = -1;
+    w->chars[k] = w->chars[--w->char_count];
+    if (k < w->char_count) w->cold[w->chars[k].body].character = k;
+}
+
+nt_status nt_character_destroy(nt_world *w, nt_body_id id)
+{
+    nt__character *c = char_of(w, id);
+    if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    int32_t i = c->body;
+    int was_dynamic = c->type == NT_BODY_DYNAMIC;
+    nt__character_remove(w, i);
+    if (was_dynamic) nt__set_kinematic(w, i, false);
+    return NT_OK;
+}
+
+bool nt_character_is_valid(const nt_world *w, nt_body_id id) { return char_of(w, id) != NULL; }
+
+nt_body_type nt__character_type(const nt_world *w, int32_t i)
+{
+    int32_t k = w->cold[i].character;
+    return k >= 0 ? (nt_body_type)w->chars[k].type : (nt_body_type)w->bodies[i].type;
+}
+
+nt_status nt_character_drop_through(nt_world *w, nt_body_id id)
+{
+    nt__character *c = char_of(w, id);
+    if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    c->dropping = 1;
+    return NT_OK;
+}
+
+/* ---------------------------------------------------------------- the move */
+
+typedef struct mover {
+    nt_world *w;
+    nt__character *c;
+    nt__body *b;
+    nt_shape shape;
+    nt_query_filter filter;
+    int32_t skip_body; /* a body the current cast ignores (the platform being ridden), -1 none */
+    nt_real cos_floor;
+    nt_character_result *r;
+} mover;
+
+/* Which bodies stop the character: not itself, not sensors (queries never see them),
+ * dynamic ones only with collide_dynamic. */
+static bool stops_character(nt_body_id id, void *ctx)
+{
+    const mover *m = (const mover *)ctx;
+    int32_t i = id.index1 - 1;
+    if (i == m->skip_body) return false;
+    if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0) return m->c->def.collide_dynamic;
+    return true;
+}
+
+/* Cast from p along d: the fraction travelled (1: nothing met) and the hit. */
+static nt_real cast(mover *m, nt_vec2 p, nt_vec2 d, nt_world_shape_hit *hit)
+{
+    memset(hit, 0, sizeof *hit);
+    if (d.x == 0 && d.y == 0) return 1;
+    if (!nt_world_cast_shape(m->w, p, m->shape, d, m->filter, hit)) return 1;
+    return hit->fraction;
+}
+
+enum { SURF_FLOOR = 1, SURF_WALL = 2, SURF_CEILING = 3 };
+
+static int classify(const mover *m, nt_vec2 n)
+{
+    if (-n.y >= m->cos_floor) return SURF_FLOOR;
+    if (n.y >= m->cos_floor) return SURF_CEILING;
+    return SURF_WALL;
+}
+
+/* Note a surface met (its normal, what it is) in the result. */
+static void note(mover *m, int kind, const nt_world_shape_hit *h)
+{
+    nt_character_result *r = m->r;
+    if (kind == SURF_FLOOR) {
+        /* The flattest floor met wins. */
+        if (!r->on_floor || h->normal.y < r->floor_normal.y) {
+            r->floor_normal = h->normal;
+            r->floor_body = h->body;
+            r->floor_cell_x = h->cell_x;
+            r->floor_cell_y = h->cell_y;
+        }
+        r->on_floor = true;
+    } else if (kind == SURF_CEILING) {
+        r->on_ceiling = true;
+        r->ceiling_normal = h->normal;
+    } else {
+        r->on_wall = true;
+        r->wall_normal = h->normal;
+    }
+}
+
+/* Remove from v what goes into the surface n (v . n < 0). */
+static nt_vec2 slide(nt_vec2 v, nt_vec2 n)
+{
+    nt_real a = nt__dot(v, n);
+    return a < 0 ? nt__sub(v, nt__scale(n, a)) : v;
+}
+
+/* What is left of a motion after meeting surface n: slid along it. On a floor, with
+ * stop_on_slope the downward part is the floor's to carry (standing still on a slope
+ * does not slide it down), and with constant_speed_on_slopes the slid motion keeps the
+ * horizontal length it had. */
+static nt_vec2 slide_motion(const mover *m, nt_vec2 d, nt_vec2 n, int kind)
+{
+    if (kind != SURF_FLOOR) return slide(d, n);
+    nt_vec2 in = d;
+    if (m->c->def.stop_on_slope && in.y > 0) in.y = 0;
+    nt_vec2 out = slide(in, n);
+    if (m->c->def.constant_speed_on_slopes && out.x != 0 && in.x != 0) {
+        nt_real len = nt__len(out);
+        if (len > 0) out = nt__scale(out, nt__fabs(in.x) / len);
+    }
+    return out;
+}
+
+/* Move from p along d, sliding, at most max_slides casts. Returns the end. *v is slid
+ * along every surface met; *blocked_wall tells whether a wall stopped horizontal
+ * motion (for the step-up). */
+static nt_vec2 slide_move(mover *m, nt_vec2 p, nt_vec2 d, nt_vec2 *v, nt_vec2 *wall_left_over)
+{
+    nt_vec2 prev_n = nt_v2(0, 0);
+    int have_prev = 0;
+    nt_real tiny = m->w->cell * R(1e-7);
+    *wall_left_over = nt_v2(0, 0);
+    for (int k = 0; k < m->c->def.max_slides; k++) {
+        if (nt__fabs(d.x) <= tiny && nt__fabs(d.y) <= tiny) break;
+        nt_world_shape_hit h;
+        nt_real t = cast(m, p, d, &h);
+        if (t >= 1) {
+            p = nt__add(p, d);
+            break;
+        }
+        p = nt__add(p, nt__scale(d, t));
+        m->r->slide_count++;
+        if (h.normal.x == 0 && h.normal.y == 0) break; /* started inside: stay */
+        int kind = classify(m, h.normal);
+        note(m, kind, &h);
+        nt_vec2 rest = nt__scale(d, 1 - t);
+        if (kind == SURF_WALL && rest.x != 0) *wall_left_over = rest;
+        nt_vec2 next = slide_motion(m, rest, h.normal, kind);
+        if (kind == SURF_WALL && !m->c->def.slide_on_walls && m->r->on_floor) next = nt_v2(0, 0);
+        *v = kind == SURF_FLOOR && m->c->def.stop_on_slope ? slide_motion(m, *v, h.normal, kind) : slide(*v, h.normal);
+        /* Two surfaces in 2D: moving along the second must not go back into the first
+         * (a crease); then nothing is left. */
+        if (have_prev && nt__dot(next, prev_n) < 0) {
+            nt_vec2 along = slide(next, prev_n);
+            next = nt__dot(along, h.normal) < -tiny ? nt_v2(0, 0) : along;
+        }
+        prev_n = h.normal;
+        have_prev = 1;
+        d = next;
+    }
+    return p;
+}
+
+/* Climb a step: up by the step height, across by the motion a wall stopped, down
+ * onto a floor. Returns 1 and the new place when that lands on a floor higher than p
+ * by no more than the step height. */
+static int step_up(mover *m, nt_vec2 p, nt_vec2 across, nt_vec2 *out)
+{
+    nt_real height = m->c->def.step_cells * m->w->cell;
+    if (height <= 0 || across.x == 0) return 0;
+    nt_world_shape_hit h;
+    nt_vec2 up = nt_v2(0, -height);
+    nt_real t = cast(m, p, up, &h);
+    nt_vec2 q = nt__add(p, nt__scale(up, t));
+    nt_vec2 a = nt_v2(across.x, 0);
+    t = cast(m, q, a, &h);
+    if (t <= 0) return 0;
+    q = nt__add(q, nt__scale(a, t));
+    nt_vec2 down = nt_v2(0, (p.y - q.y) + m->w->cell * R(1e-3));
+    t = cast(m, q, down, &h);
+    if (t >= 1 || classify(m, h.normal) != SURF_FLOOR) return 0;
+    q = nt__add(q, nt__scale(down, t));
+    if (!(q.y < p.y)) return 0; /* no higher: not a step */
+    *out = q;
+    note(m, SURF_FLOOR, &h);
+    return 1;
+}
+
+/* The velocity of the floor met, when it is a body. */
+static nt_vec2 floor_velocity(const nt_world *w, const nt_character_result *r)
+{
+    if (nt_body_id_is_null(r->floor_body)) return nt_v2(0, 0);
+    return w->bodies[r->floor_body.index1 - 1].v;
+}
+
+/* Does the shape at p, grown by a thousandth of a cell, overlap a one-way cell's tile? */
+static int touches_one_way(const nt_world *w, nt_vec2 p, nt_shape s)
+{
+    if (!w->oneway_count) return 0;
+    nt_real ic = w->inv_cell, g = R(1e-3);
+    nt_vec2 c = nt_v2(p.x * ic, p.y * ic), h = nt_v2(s.half.x * ic + g, s.half.y * ic + g);
+    s.half = h;
+    int x0 = nt__ifloor(c.x - h.x), x1 = nt__ifloor(c.x + h.x), y0 = nt__ifloor(c.y - h.y), y1 = nt__ifloor(c.y + h.y);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            if ((nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) &&
+                nt_collide_tile_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, NULL))
+                return 1;
+    return 0;
+}
+
+nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
+{
+    nt_character_result r;
+    memset(&r, 0, sizeof r);
+    if (out) *out = r;
+    if (!w || !out) return NT_ERR_INVALID_ARGUMENT;
+    nt__character *c = char_of(w, id);
+    if (!c) return NT_ERR_INVALID_ID;
+    if (!finite2(velocity) || !nt__finite(dt)) return NT_ERR_NON_FINITE;
+    if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    nt__body *b = &w->bodies[c->body];
+    /* The speed limit of the world step. */
+    nt_real maxd = w->def.max_cells_per_step * w->cell, sp2 = nt__dot(velocity, velocity);
+    if (!(sp2 * dt * dt <= maxd * maxd)) velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    mover m;
+    m.w = w;
+    m.c = c;
+    m.b = b;
+    m.shape = nt__body_shape(b);
+    m.filter = nt_default_query_filter();
+    m.filter.mask = b->mask;
+    m.filter.ignore_count = 1;
+    m.filter.ignore[0] = id;
+    m.filter.accept = stops_character;
+    m.filter.accept_context = &m;
+    m.filter.one_way_off = c->dropping != 0;
+    m.skip_body = -1;
+    m.cos_floor = (nt_real)cos((double)c->def.floor_angle);
+    m.r = &r;
+    const nt_vec2 p0 = b->p;
+    nt_vec2 p = p0;
+    const int was_on_floor = c->on_floor;
+    /* The velocity of the body stood on (a moving platform), if it still lives. */
+    nt_vec2 platform = nt_v2(0, 0);
+    if (was_on_floor && c->floor_body >= 0) {
+        const nt__body *fb = &w->bodies[c->floor_body];
+        if ((fb->flags & NT__BF_ALIVE) && fb->generation == c->floor_gen) platform = fb->v;
+    }
+    /* 1. The move, relative to where things are now. */
+    nt_vec2 v = velocity, wall;
+    p = slide_move(&m, p, nt__scale(velocity, dt), &v, &wall);
+    /* 2. A step: a wall stopped the move while on a floor. */
+    if ((was_on_floor || r.on_floor) && wall.x != 0) {
+        nt_vec2 q;
+        if (step_up(&m, p, wall, &q)) {
+            p = q;
+            r.stepped_up = true;
+        }
+    }
+    /* 3. Snap down onto the floor it stood on, unless moving up; else, still standing,
+     * make sure the floor is still known (a move along a floor need not meet it). */
+    if (was_on_floor && !r.on_floor && velocity.y >= 0) {
+        nt_world_shape_hit h;
+        nt_real reach = nt__max(c->def.snap_cells * w->cell, w->cell * R(2e-3));
+        nt_vec2 down = nt_v2(0, reach);
+        nt_real t = cast(&m, p, down, &h);
+        if (t < 1 && classify(&m, h.normal) == SURF_FLOOR) {
+            p = nt__add(p, nt__scale(down, t));
+            note(&m, SURF_FLOOR, &h);
+            r.snapped = t * reach > w->cell * R(2e-3);
+            v = slide_motion(&m, v, h.normal, SURF_FLOOR);
+        }
+    }
+    r.landed = r.on_floor && !was_on_floor;
+    /* 4. Carried by the platform over this step (it moves by as much in the world step),
+     * cast without it; leaving it keeps its velocity. */
+    r.floor_velocity = r.on_floor ? floor_velocity(w, &r) : nt_v2(0, 0);
+    if (platform.x != 0 || platform.y != 0) {
+        nt_character_result keep = r;
+        nt_vec2 ignored = platform;
+        m.skip_body = c->floor_body;
+        p = slide_move(&m, p, nt__scale(platform, dt), &ignored, &wall);
+        m.skip_body = -1;
+        r = keep; /* what the carry met is not the move's */
+        if (!r.on_floor) v = nt__add(v, platform);
+    }
+    if (r.on_floor && v.y > 0 && c->def.stop_on_slope) v.y = 0;
+    /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
+    if (c->dropping && !touches_one_way(w, p, m.shape)) c->dropping = 0;
+    /* Back to the body: its place and, for the contact solver, the velocity it moved at. */
+    b->p = p;
+    b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);
+    b->ntc = 0;
+    if (b->gcell >= 0) nt__grid_update(w, c->body);
+    c->on_floor = r.on_floor;
+    c->floor_body = nt_body_id_is_null(r.floor_body) || !r.on_floor ? -1 : r.floor_body.index1 - 1;
+    c->floor_gen = r.floor_body.generation;
+    r.position = p;
+    r.velocity = v;
+    *out = r;
+    return NT_OK;
+}
