@@ -185,14 +185,15 @@ static const char *material_problem(nt_friction_model model, nt_material m)
     return NULL;
 }
 
-/* A shape against the cell size; NULL when valid. */
+/* A shape against the cell size (half-size at most NT_MAX_HALF_CELLS cells); NULL when valid. */
 static const char *shape_problem(const nt_level *lv, nt_shape s)
 {
     if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return "unknown shape type";
     if (!fin2(s.half)) return "non-finite size";
     if (s.half.x <= 0 || s.half.y <= 0) return "size must be > 0";
     if (s.type == NT_SHAPE_CIRCLE && s.half.x != s.half.y) return "a circle needs equal halves";
-    if (s.half.x > lv->cell_size * R(0.5) || s.half.y > lv->cell_size * R(0.5)) return "shape larger than half a cell";
+    nt_real cap = lv->cell_size * NT_MAX_HALF_CELLS;
+    if (s.half.x > cap || s.half.y > cap) return nt_status_string(NT_ERR_SHAPE_TOO_LARGE);
     return NULL;
 }
 
@@ -908,9 +909,10 @@ static nt_status size_at(parser *P, int i, const char *what, nt_real *out)
     char q[NT__QUOTE_MAX];
     nt_status s = positive_at(P, i, what, out);
     if (s != NT_OK) return s;
-    if (*out > P->lv->cell_size * R(0.5))
-        return nt__fail_col(t, t->f[i].col, "%s '%s' is larger than half a cell (%g)", what, nt__quote(q, t->f[i].s, t->f[i].n),
-                            (double)(P->lv->cell_size * R(0.5)));
+    nt_real cap = P->lv->cell_size * NT_MAX_HALF_CELLS;
+    if (*out > cap)
+        return nt__fail_col(t, t->f[i].col, "%s '%s' is larger than the largest half-size, %d cells (%g)", what,
+                            nt__quote(q, t->f[i].s, t->f[i].n), NT_MAX_HALF_CELLS, (double)cap);
     return NT_OK;
 }
 
