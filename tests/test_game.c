@@ -43,19 +43,20 @@ static nt_vec2 ppos(const nt_game *g) { return nt_body_get_position(nt_game_get_
 static nt_vec2 pvel(const nt_game *g) { return nt_body_get_velocity(nt_game_get_world(g), nt_game_get_player(g)); }
 
 /* A room 16 x 10 cells of 24 with a floor at row 9 (top y = 216) and walls. */
-static const char room[] = "ntile-level 1\nsize 16 10\n"
-                           "tiles\n"
-                           "|################|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|################|\n"
-                           "player 192 200\n";
+#define ROOM_TILES \
+    "ntile-level 1\nsize 16 10\n" \
+    "tiles\n" \
+    "|################|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|################|\n"
+static const char room[] = ROOM_TILES "player 192 200\n";
 
 /* ---------------------------------------------------------------- random source */
 
@@ -750,11 +751,7 @@ static void test_runner_hashes_and_divergence(void **state)
 static void test_large_bodies(void **state)
 {
     (void)state;
-    nt_level *lv = level_from("ntile-level 1\nsize 16 10\ntiles\n"
-                              "|################|\n|#..............#|\n|#..............#|\n|#..............#|\n"
-                              "|#..............#|\n|#..............#|\n|#..............#|\n|#..............#|\n"
-                              "|#..............#|\n|################|\n"
-                              "player 250 120\n"
+    nt_level *lv = level_from(ROOM_TILES "player 250 120\n"
                               "path slide pingpong speed 20 wait 0.5 points 250 150 300 150\n"
                               "body crate dynamic box 12 24 at 60 150\n"
                               "body platform kinematic box 48 6 at 250 150 path slide\n");
