@@ -196,12 +196,16 @@ enum {
     NT__BF_ALIVE = 8,
     NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
     NT__BF_MOVED = 32,     /* scratch: moved by position correction */
-    NT__BF_RESTING = 64    /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
+    NT__BF_RESTING = 64,   /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
+    NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */ };
+/* Broad-phase levels: level 0 is N's grid (bodies up to half a cell), level k holds
+ * bodies up to 2^(k-1) cells in cells 2^k wide, up to NT_MAX_HALF_CELLS. */
+#define NT__LEVELS 4
 /* Body pairs closer than this (in cells) are solved, so that resting contacts never
  * come and go; only overlapping ones count as touching (events, sensors). */
 #define NT__CONTACT_MARGIN R(0.05)
@@ -244,6 +248,7 @@ typedef struct nt__body {
     nt_real gravity_scale, drag, sleep_time;
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
     uint8_t glist;             /* NT__LIST_* */
+    uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];
@@ -317,6 +322,13 @@ struct nt_world {
     uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
     uint32_t *radix;           /* 2 x 8192 counters of the proxies' radix sort */
     int grid_w, grid_h;
+    /* Coarser loose-grid levels 1..NT__LEVELS-1 for bodies above half a cell (grid.c):
+     * level k has cells 2^k map cells wide, 2 list heads each, all levels in one
+     * array from lbase[k]; NULL until the first such body enters the grid. */
+    int32_t *lheads;
+    int lbase[NT__LEVELS], lw[NT__LEVELS], lh[NT__LEVELS];
+    int lcount[NT__LEVELS][2]; /* bodies per level and list */
+    int large_count;           /* bodies above half a cell in the grid (all levels >= 1) */
 
     nt__contact *con, *con_new, *con_tmp, *parked;
     uint64_t *sort_keys;       /* 2 x 2 per new contact: (key, index) records of the radix sort */
@@ -405,13 +417,17 @@ static inline nt_shape nt__body_shape(const nt__body *b)
 }
 
 /* grid.c */
-nt_status nt__grid_enable(nt_world *w);
+int nt__grid_level(const nt_world *w, nt_vec2 half); /* the level a body of this size sits in */
+nt_status nt__grid_enable(nt_world *w, int level); /* room for bodies of this level (before insert) */
 void nt__grid_insert(nt_world *w, int32_t i);
 void nt__grid_remove(nt_world *w, int32_t i);
 void nt__grid_update(nt_world *w, int32_t i);   /* after the body moved or changed list */
 nt_status nt__grid_find_pairs(nt_world *w, nt_real dt); /* fills con_new; may grow it */
 typedef bool nt__visit_fn(const nt_world *w, int32_t i, void *ctx);
 void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx);
+/* A level's list heads (2 per cell: ACTIVE, REST), its size in cells and its cell width. */
+void nt__grid_level_view(const nt_world *w, int level, const int32_t **heads, int *gw, int *gh, nt_real *size);
+int nt__grid_level_used(const nt_world *w, int level); /* any body in it (level 0: grid enabled) */
 bool nt__pair_filter(const nt__body *a, const nt__body *b);
 void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair: the axis they met on */
 

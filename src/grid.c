@@ -1,18 +1,68 @@
-/* Broad phase: N's loose grid. Every body with a non-zero category and mask sits in
- * the map cell holding its centre (clamped to the map), in one of two intrusive
- * lists per cell: ACTIVE (awake dynamic and kinematic bodies) and REST (static and
- * sleeping ones). A body is at most half a cell, so it can only touch bodies of its
- * own cell and the 8 around it. Pairs are found from the awake side only: each
- * ACTIVE body tests the later ACTIVE bodies of its own cell, the ACTIVE lists of 4 of
- * its 8 neighbours (a half neighbourhood, so each pair is met once) and the REST
- * lists of all 9 cells. Sleeping and static bodies cost nothing here.
+/* Broad phase: N's loose grid, with coarser levels for bodies above half a cell.
  *
- * b->gcell is the index of the list head the body is linked in: 2 * cell + list. */
+ * Level 0 is N's grid: every body up to half a cell with a non-zero category and mask
+ * sits in the map cell holding its centre (clamped to the map), in one of two
+ * intrusive lists per cell: ACTIVE (awake dynamic and kinematic bodies) and REST
+ * (static and sleeping ones). Such a body can only touch level-0 bodies of its own
+ * cell and the 8 around it. Pairs are found from the awake side only: each ACTIVE
+ * body tests the later ACTIVE bodies of its own cell, the ACTIVE lists of 4 of its 8
+ * neighbours (a half neighbourhood, so each pair is met once) and the REST lists of
+ * all 9 cells. Sleeping and static bodies cost nothing here.
+ *
+ * Level k >= 1 holds the bodies whose larger half-size is above 2^(k-2) cells and at
+ * most 2^(k-1) (k = 3: up to NT_MAX_HALF_CELLS), in cells 2^k map cells wide, the
+ * same way (the cell of the centre, clamped; ACTIVE and REST lists). A pair across
+ * levels is found once, by the awake side: an awake body tests both lists of lower
+ * levels, the REST lists and the later (by slot) ACTIVE bodies of its own level, and
+ * the REST lists of higher levels, each over the cells whose bodies can come within
+ * the largest contact margin. A world with no body above half a cell never looks at
+ * the coarser levels (one comparison a step).
+ *
+ * b->gcell is the index of the list head the body is linked in: 2 * cell + list, in
+ * w->heads for level 0 and in w->lheads (cells of every coarser level, one after
+ * the other) above. */
 #include <string.h>
 #include "core.h"
 
-nt_status nt__grid_enable(nt_world *w)
+_Static_assert((1 << (NT__LEVELS - 2)) == NT_MAX_HALF_CELLS, "the coarsest level must hold the largest body");
+
+int nt__grid_level(const nt_world *w, nt_vec2 half)
 {
+    nt_real m = nt__max(half.x, half.y), lim = w->cell * R(0.5);
+    int k = 0;
+    while (m > lim && k < NT__LEVELS - 1) {
+        lim *= 2;
+        k++;
+    }
+    return k;
+}
+
+/* The coarser levels' list heads, all at once (they are small: a quarter of level
+ * 0's cells and less). */
+static nt_status enable_levels(nt_world *w)
+{
+    if (w->lheads) return NT_OK;
+    int n = 0;
+    for (int k = 1; k < NT__LEVELS; k++) {
+        int s = 1 << k;
+        w->lw[k] = (w->grid_w + s - 1) / s;
+        w->lh[k] = (w->grid_h + s - 1) / s;
+        w->lbase[k] = n;
+        n += w->lw[k] * w->lh[k];
+    }
+    int32_t *h = (int32_t *)nt__alloc(2 * (size_t)n * sizeof *h);
+    if (!h) return NT_ERR_OUT_OF_MEMORY;
+    memset(h, 0xff, 2 * (size_t)n * sizeof *h); /* -1 everywhere */
+    w->lheads = h;
+    return NT_OK;
+}
+
+nt_status nt__grid_enable(nt_world *w, int level)
+{
+    if (level > 0) {
+        nt_status s = enable_levels(w);
+        if (s != NT_OK) return s;
+    }
     if (w->heads) return NT_OK;
     size_t n = 2 * (size_t)w->grid_w * (size_t)w->grid_h;
     int32_t *h = (int32_t *)nt__alloc(n * sizeof *h);
@@ -91,10 +141,51 @@ static inline void unlink(nt_world *w, int32_t i)
     b->gnext = b->gprev = -1;
 }
 
+/* The coarser level's cell of a centre (clamped to the level's grid). */
+static inline int32_t level_cell(const nt_world *w, int k, nt_vec2 p)
+{
+    nt_real ic = w->inv_cell / (nt_real)(1 << k);
+    int x = nt__ifloor(p.x * ic), y = nt__ifloor(p.y * ic);
+    if (x < 0) x = 0;
+    if (x >= w->lw[k]) x = w->lw[k] - 1;
+    if (y < 0) y = 0;
+    if (y >= w->lh[k]) y = w->lh[k] - 1;
+    return w->lbase[k] + (int32_t)y * w->lw[k] + x;
+}
+
+static void link_large(nt_world *w, int32_t i, int32_t head)
+{
+    nt__body *b = &w->bodies[i];
+    int32_t first = w->lheads[head];
+    b->gcell = head;
+    b->gprev = -1;
+    b->gnext = first;
+    if (first >= 0) w->bodies[first].gprev = i;
+    w->lheads[head] = i;
+    w->lcount[b->level][head & 1]++;
+}
+
+static void unlink_large(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    w->lcount[b->level][b->gcell & 1]--;
+    if (b->gprev >= 0) w->bodies[b->gprev].gnext = b->gnext;
+    else w->lheads[b->gcell] = b->gnext;
+    if (b->gnext >= 0) w->bodies[b->gnext].gprev = b->gprev;
+    b->gnext = b->gprev = -1;
+}
+
 void nt__grid_insert(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
-    link(w, i, 2 * cell_of(w, b->p) + b->glist);
+    b->level = (uint8_t)nt__grid_level(w, b->half);
+    NT_ASSERT(!b->level == !(b->flags & NT__BF_LARGE));
+    if (b->level) {
+        link_large(w, i, 2 * level_cell(w, b->level, b->p) + b->glist);
+        w->large_count++;
+    } else {
+        link(w, i, 2 * cell_of(w, b->p) + b->glist);
+    }
     w->grid_bodies++;
     w->grid_cat |= b->category;
     w->grid_mask |= b->mask;
@@ -102,14 +193,33 @@ void nt__grid_insert(nt_world *w, int32_t i)
 
 void nt__grid_remove(nt_world *w, int32_t i)
 {
-    unlink(w, i);
-    w->bodies[i].gcell = -1;
+    nt__body *b = &w->bodies[i];
+    if (b->level) {
+        unlink_large(w, i);
+        w->large_count--;
+    } else {
+        unlink(w, i);
+    }
+    b->gcell = -1;
     w->grid_bodies--;
+}
+
+NT__NOINLINE static void update_large(nt_world *w, int32_t i)
+{
+    nt__body *b = &w->bodies[i];
+    int32_t head = 2 * level_cell(w, b->level, b->p) + b->glist;
+    if (head == b->gcell) return;
+    unlink_large(w, i);
+    link_large(w, i, head);
 }
 
 void nt__grid_update(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
+    if (b->flags & NT__BF_LARGE) {
+        update_large(w, i);
+        return;
+    }
     int32_t head = 2 * cell_of(w, b->p) + b->glist;
     if (head == b->gcell) return;
     unlink(w, i);
@@ -303,7 +413,7 @@ static nt_status build_proxies(nt_world *w, int *count)
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
         const nt__body *b = &w->bodies[i];
-        if (b->gcell < 0) continue;
+        if (b->gcell < 0 || (b->flags & NT__BF_LARGE)) continue; /* coarser levels: large_pairs */
         nt__proxy *q = &src[n++];
         /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
         nt_real slack = R(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * (R(16) * NT_REAL_EPS);
@@ -340,6 +450,98 @@ static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy 
     return test_pair(w, a->body, b->body);
 }
 
+/* One level of the grid as the searches see it: its list heads (2 per cell), its
+ * size in cells and the width of a cell. */
+typedef struct level_view {
+    const int32_t *heads;
+    int w, h;
+    nt_real size;
+} level_view;
+
+static level_view view_of(const nt_world *w, int k)
+{
+    level_view v;
+    if (k == 0) {
+        v.heads = w->heads;
+        v.w = w->grid_w;
+        v.h = w->grid_h;
+        v.size = w->cell;
+    } else {
+        v.heads = w->lheads + 2 * (size_t)w->lbase[k];
+        v.w = w->lw[k];
+        v.h = w->lh[k];
+        v.size = w->cell * (nt_real)(1 << k);
+    }
+    return v;
+}
+
+/* The cells of a level whose bodies' centres may lie in lo..hi: bodies outside the
+ * map live in its edge cells, so the range is clamped into the grid (a range wholly
+ * outside becomes the edge row or column). */
+static void view_range(const level_view *v, nt_vec2 lo, nt_vec2 hi, int r[4])
+{
+    nt_real ic = 1 / v->size;
+    int x0 = nt__ifloor(lo.x * ic), y0 = nt__ifloor(lo.y * ic);
+    int x1 = nt__ifloor(hi.x * ic), y1 = nt__ifloor(hi.y * ic);
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 >= v->w) x1 = v->w - 1;
+    if (y1 >= v->h) y1 = v->h - 1;
+    if (x0 > x1) x0 = x1 = x0 >= v->w ? v->w - 1 : 0;
+    if (y0 > y1) y0 = y1 = y0 >= v->h ? v->h - 1 : 0;
+    r[0] = x0;
+    r[1] = y0;
+    r[2] = x1;
+    r[3] = y1;
+}
+
+/* Pairs with a body above half a cell (see the top of the file). An awake body tests
+ * the lists of level lv over the cells whose bodies can come within the largest
+ * contact margin (one cell) of it: their centres lie within its half-size, the
+ * level's largest half-size and a cell. */
+static int large_pairs_of(nt_world *w, int32_t i, int *tests)
+{
+    const nt__body *b = &w->bodies[i];
+    const int own = b->level;
+    for (int lv = 0; lv < NT__LEVELS; lv++) {
+        /* Which lists: both below, REST and later ACTIVE ones at its own level, REST above. */
+        int any_active = lv < own || lv == own, any_rest = 1;
+        if (lv > 0 && !w->lcount[lv][NT__LIST_ACTIVE]) any_active = 0;
+        if (lv > 0 && !w->lcount[lv][NT__LIST_REST]) any_rest = 0;
+        if (lv == 0 && own == 0) continue; /* level 0 among itself: the proxies */
+        if (!any_active && !any_rest) continue;
+        level_view v = view_of(w, lv);
+        nt_real ex = b->half.x + R(0.5) * v.size + w->cell, ey = b->half.y + R(0.5) * v.size + w->cell;
+        int r[4];
+        view_range(&v, nt_v2(b->p.x - ex, b->p.y - ey), nt_v2(b->p.x + ex, b->p.y + ey), r);
+        for (int y = r[1]; y <= r[3]; y++)
+            for (int x = r[0]; x <= r[2]; x++)
+                for (int list = any_active ? 0 : 1; list <= any_rest; list++)
+                    for (int32_t j = v.heads[2 * (y * v.w + x) + list]; j >= 0; j = w->bodies[j].gnext) {
+                        if (list == NT__LIST_ACTIVE && lv == own && j <= i) continue; /* met from j's side */
+                        (*tests)++;
+                        if (!test_pair(w, i, j)) return 0;
+                    }
+    }
+    return 1;
+}
+
+/* Every pair with a body above half a cell, in awake order: the awake large bodies
+ * against everything they can reach, and the awake small ones against the large
+ * resting ones. */
+NT__NOINLINE static int large_pairs(nt_world *w, int *tests)
+{
+    int rest_above = 0;
+    for (int lv = 1; lv < NT__LEVELS; lv++) rest_above += w->lcount[lv][NT__LIST_REST];
+    for (int k = 0; k < w->awake_count; k++) {
+        int32_t i = w->awake[k];
+        const nt__body *b = &w->bodies[i];
+        if (b->gcell < 0 || (!b->level && !rest_above)) continue;
+        if (!large_pairs_of(w, i, tests)) return 0;
+    }
+    return 1;
+}
+
 nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
 {
     w->pair_margin = w->cell * NT__CONTACT_MARGIN;
@@ -354,12 +556,12 @@ nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
         if (b->gcell >= 0 && (b->category & w->grid_mask) && (b->mask & w->grid_cat)) possible = 1;
     }
     if (!possible) return NT_OK;
-    int n;
+    int n, tests = 0;
+    if (w->large_count && !large_pairs(w, &tests)) return NT_ERR_OUT_OF_MEMORY;
     nt_status st = build_proxies(w, &n);
     if (st != NT_OK) return st;
     const nt__proxy *P = w->prox_tmp; /* sorted */
     const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h, stride = gw + 1u;
-    int tests = 0;
     /* Awake pairs: each proxy meets the later ones of its own cell and of the cell to
      * its right (the next keys), and those of the three cells below it, found by a
      * cursor that only moves forward (keys grow, so does the row-below range). */
@@ -396,19 +598,32 @@ nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
 void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx)
 {
     if (!w->heads) return;
-    nt_real m = w->cell * R(0.5), ic = w->inv_cell;
-    int x0 = nt__ifloor((lo.x - m) * ic), y0 = nt__ifloor((lo.y - m) * ic);
-    int x1 = nt__ifloor((hi.x + m) * ic), y1 = nt__ifloor((hi.y + m) * ic);
-    if (x0 < 0) x0 = 0;
-    if (y0 < 0) y0 = 0;
-    if (x1 >= w->grid_w) x1 = w->grid_w - 1;
-    if (y1 >= w->grid_h) y1 = w->grid_h - 1;
-    /* Bodies outside the map live in the edge cells: clamp the range into the map. */
-    if (x0 > x1) x0 = x1 = x0 >= w->grid_w ? w->grid_w - 1 : 0;
-    if (y0 > y1) y0 = y1 = y0 >= w->grid_h ? w->grid_h - 1 : 0;
-    for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++)
-            for (int list = 0; list < 2; list++)
-                for (int32_t j = w->heads[2 * (y * w->grid_w + x) + list]; j >= 0; j = w->bodies[j].gnext)
-                    if (!fn(w, j, ctx)) return;
+    for (int lv = 0; lv < NT__LEVELS; lv++) {
+        if (lv > 0 && (!w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1]))) continue;
+        /* A body reaches half its level's cell beyond its cell. */
+        level_view v = view_of(w, lv);
+        nt_real m = v.size * R(0.5);
+        int r[4];
+        view_range(&v, nt_v2(lo.x - m, lo.y - m), nt_v2(hi.x + m, hi.y + m), r);
+        for (int y = r[1]; y <= r[3]; y++)
+            for (int x = r[0]; x <= r[2]; x++)
+                for (int list = 0; list < 2; list++)
+                    for (int32_t j = v.heads[2 * (y * v.w + x) + list]; j >= 0; j = w->bodies[j].gnext)
+                        if (!fn(w, j, ctx)) return;
+    }
+}
+
+void nt__grid_level_view(const nt_world *w, int level, const int32_t **heads, int *gw, int *gh, nt_real *size)
+{
+    level_view v = view_of(w, level);
+    *heads = v.heads;
+    *gw = v.w;
+    *gh = v.h;
+    *size = v.size;
+}
+
+int nt__grid_level_used(const nt_world *w, int level)
+{
+    if (level == 0) return w->heads != NULL;
+    return w->lheads && (w->lcount[level][0] | w->lcount[level][1]);
 }

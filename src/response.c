@@ -364,6 +364,23 @@ static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
     return open_range(w, p, h, cx, cy);
 }
 
+/* open_air for a body above half a cell: every cell its box covers is an EMPTY
+ * cell of the map. */
+NT__NOINLINE static int open_box(const nt_world *w, nt_vec2 p, nt_vec2 h)
+{
+    nt_real ic = w->inv_cell;
+    int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
+    int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
+    const nt_map *m = w->map;
+    if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
+    for (int y = y0; y <= y1; y++) {
+        const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;
+        for (int x = x0; x <= x1; x++)
+            if (row[x].tile != NT_TILE_EMPTY) return 0;
+    }
+    return 1;
+}
+
 /* The tile resolution of a body that is not in open air (see resolve_body). */
 NT__NOINLINE static bool resolve_near(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p,
                                       nt_resolution *res)
@@ -387,7 +404,7 @@ NT__NOINLINE static bool resolve_near(const nt_world *w, const nt__body *b, nt_v
  * else true with the resolution in *res (world units). */
 static inline bool resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
 {
-    if (open_air(w, p, b->half)) return false;
+    if (!(b->flags & NT__BF_LARGE) ? open_air(w, p, b->half) : open_box(w, p, b->half)) return false;
     return resolve_near(w, b, p_prev, p, res);
 }
 

@@ -196,6 +196,7 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->heads);
     nt__free(w->occupied);
     nt__free(w->rest_near);
+    nt__free(w->lheads);
     nt__free(w->sort_keys);
     nt__free(w->prox);
     nt__free(w->prox_tmp);
@@ -631,8 +632,20 @@ static nt_status check_shape(const nt_world *w, nt_shape s)
     if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return NT_ERR_INVALID_ARGUMENT;
     if (s.half.x <= 0 || s.half.y <= 0) return NT_ERR_INVALID_ARGUMENT;
     if (s.type == NT_SHAPE_CIRCLE && s.half.x != s.half.y) return NT_ERR_INVALID_ARGUMENT;
-    if (s.half.x > w->cell * R(0.5) || s.half.y > w->cell * R(0.5)) return NT_ERR_SHAPE_TOO_LARGE;
+    nt_real cap = w->cell * (nt_real)NT_MAX_HALF_CELLS;
+    if (s.half.x > cap || s.half.y > cap) return NT_ERR_SHAPE_TOO_LARGE;
     return NT_OK;
+}
+
+/* A body above half a cell must lie wholly inside the map where it is placed: the
+ * resolution brings a small body back from beyond the border, but a large one
+ * reaching over the edge would be placed where the map cannot describe it. */
+static int fits_placement(const nt_world *w, nt_vec2 p, nt_vec2 half)
+{
+    nt_real lim = w->cell * R(0.5);
+    if (half.x <= lim && half.y <= lim) return 1;
+    return p.x - half.x >= 0 && p.y - half.y >= 0 && p.x + half.x <= (nt_real)w->map->w * w->cell &&
+           p.y + half.y <= (nt_real)w->map->h * w->cell;
 }
 
 /* Positions must lie within NT_WORLD_REACH_CELLS cells of the map: beyond that the
@@ -656,7 +669,7 @@ static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
     if (s != NT_OK) return s;
     s = check_material(&w->def, d->material);
     if (s != NT_OK) return s;
-    if (!in_reach(w, d->position)) return NT_ERR_OUT_OF_RANGE;
+    if (!in_reach(w, d->position) || !fits_placement(w, d->position, d->shape.half)) return NT_ERR_OUT_OF_RANGE;
     if (d->type == NT_BODY_DYNAMIC && d->mass <= 0) return NT_ERR_INVALID_ARGUMENT;
     if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
     return NT_OK;
@@ -670,8 +683,8 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     if (s != NT_OK) return s;
     if (w->body_count >= 0x7ffffffe) return NT_ERR_LIMIT;
     int in_grid = def->mask != 0 && def->category != 0;
-    if (in_grid && !w->heads) {
-        s = nt__grid_enable(w);
+    if (in_grid) {
+        s = nt__grid_enable(w, nt__grid_level(w, def->shape.half));
         if (s != NT_OK) return s;
     }
     int32_t i;
@@ -711,7 +724,8 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     b->category = def->category;
     b->mask = def->mask;
     b->flags = NT__BF_ALIVE | (def->is_sensor ? NT__BF_SENSOR : 0) | (def->enable_sleep ? NT__BF_SLEEP_OK : 0) |
-               (def->enable_hit_events ? NT__BF_HITS : 0);
+               (def->enable_hit_events ? NT__BF_HITS : 0) |
+               (def->shape.half.x > w->cell * R(0.5) || def->shape.half.y > w->cell * R(0.5) ? NT__BF_LARGE : 0);
     b->awake_slot = -1;
     b->sleep_next = -1;
     b->gcell = -1;
@@ -816,7 +830,7 @@ nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!finite2(p)) return NT_ERR_NON_FINITE;
-    if (!in_reach(w, p)) return NT_ERR_OUT_OF_RANGE;
+    if (!in_reach(w, p) || !fits_placement(w, p, b->half)) return NT_ERR_OUT_OF_RANGE;
     int32_t i = id.index1 - 1;
     b->p = p;
     b->ntc = 0;
@@ -903,8 +917,8 @@ nt_status nt_body_set_filter(nt_world *w, nt_body_id id, uint32_t category, uint
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
     int was = b->gcell >= 0, will = category != 0 && mask != 0;
-    if (will && !w->heads) {
-        nt_status s = nt__grid_enable(w);
+    if (will) {
+        nt_status s = nt__grid_enable(w, nt__grid_level(w, b->half));
         if (s != NT_OK) return s;
     }
     b->category = category;
@@ -1135,18 +1149,25 @@ static int ray_body(const nt__body *b, nt_vec2 p0, nt_vec2 d, nt_real *t_out, nt
     return 1;
 }
 
-static void cell_clamped(const nt_world *w, int x, int y, int *cx, int *cy)
+/* One level of the broad-phase grid, as the ray walk sees it. */
+typedef struct ray_level {
+    const int32_t *heads;
+    int gw, gh;
+    nt_real size;
+} ray_level;
+
+static void cell_clamped(const ray_level *L, int x, int y, int *cx, int *cy)
 {
-    *cx = x < 0 ? 0 : (x >= w->grid_w ? w->grid_w - 1 : x);
-    *cy = y < 0 ? 0 : (y >= w->grid_h ? w->grid_h - 1 : y);
+    *cx = x < 0 ? 0 : (x >= L->gw ? L->gw - 1 : x);
+    *cy = y < 0 ? 0 : (y >= L->gh ? L->gh - 1 : y);
 }
 
 /* Test the bodies of one grid cell against the segment p0 + t d. */
-static void ray_cell(const nt_world *w, int32_t cell, nt_vec2 p0, nt_vec2 d, nt_query_filter filter,
-                     nt_world_ray_hit *best)
+static void ray_cell(const nt_world *w, const ray_level *L, int32_t cell, nt_vec2 p0, nt_vec2 d,
+                     nt_query_filter filter, nt_world_ray_hit *best)
 {
     for (int list = 0; list < 2; list++)
-        for (int32_t j = w->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
+        for (int32_t j = L->heads[2 * cell + list]; j >= 0; j = w->bodies[j].gnext) {
             const nt__body *b = &w->bodies[j];
             if (!query_sees(b, filter)) continue;
             nt_real t;
@@ -1161,21 +1182,22 @@ static void ray_cell(const nt_world *w, int32_t cell, nt_vec2 p0, nt_vec2 d, nt_
         }
 }
 
-/* Walk the cells the segment crosses from t0 to t1 (Amanatides & Woo), testing the
- * bodies of the 3 x 3 cells around each: a body reaches 1.5 cells from its cell. */
-static void ray_walk(const nt_world *w, nt_vec2 p0, nt_vec2 d, nt_real t0, nt_real t1, nt_query_filter filter,
-                     nt_world_ray_hit *best)
+/* Walk the cells of a grid level that the segment crosses from t0 to t1 (Amanatides
+ * & Woo), testing the bodies of the 3 x 3 cells around each: a body reaches 1.5 of
+ * its level's cells from its cell. */
+static void ray_walk(const nt_world *w, const ray_level *L, nt_vec2 p0, nt_vec2 d, nt_real t0, nt_real t1,
+                     nt_query_filter filter, nt_world_ray_hit *best)
 {
-    nt_real ic = w->inv_cell;
+    nt_real ic = 1 / L->size, size = L->size;
     nt_vec2 a = nt__add(p0, nt__scale(d, t0)), e = nt__add(p0, nt__scale(d, t1));
     int cx = nt__floor_int(a.x * ic), cy = nt__floor_int(a.y * ic);
     int ex = nt__floor_int(e.x * ic), ey = nt__floor_int(e.y * ic);
     int sx = d.x > 0 ? 1 : (d.x < 0 ? -1 : 0), sy = d.y > 0 ? 1 : (d.y < 0 ? -1 : 0);
-    nt_real tdx = sx ? w->cell / nt__fabs(d.x) : NT_REAL_MAX, tdy = sy ? w->cell / nt__fabs(d.y) : NT_REAL_MAX;
-    nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * w->cell - p0.x) / d.x : NT_REAL_MAX;
-    nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * w->cell - p0.y) / d.y : NT_REAL_MAX;
+    nt_real tdx = sx ? size / nt__fabs(d.x) : NT_REAL_MAX, tdy = sy ? size / nt__fabs(d.y) : NT_REAL_MAX;
+    nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * size - p0.x) / d.x : NT_REAL_MAX;
+    nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * size - p0.y) / d.y : NT_REAL_MAX;
     nt_real len = nt__len(d);
-    nt_real reach = len > 0 ? R(2) * w->cell / len : NT_REAL_MAX;
+    nt_real reach = len > 0 ? R(2) * size / len : NT_REAL_MAX;
     nt_real t_cell = t0;
     long guard = labs((long)ex - cx) + labs((long)ey - cy) + 2;
     for (long step = 0; step <= guard; step++) {
@@ -1183,8 +1205,8 @@ static void ray_walk(const nt_world *w, nt_vec2 p0, nt_vec2 d, nt_real t0, nt_re
         for (int oy = -1; oy <= 1; oy++)
             for (int ox = -1; ox <= 1; ox++) {
                 int gx, gy;
-                cell_clamped(w, cx + ox, cy + oy, &gx, &gy);
-                ray_cell(w, gy * w->grid_w + gx, p0, d, filter, best);
+                cell_clamped(L, cx + ox, cy + oy, &gx, &gy);
+                ray_cell(w, L, gy * L->gw + gx, p0, d, filter, best);
             }
         if (cx == ex && cy == ey) break;
         if (tx < ty) {
@@ -1196,6 +1218,43 @@ static void ray_walk(const nt_world *w, nt_vec2 p0, nt_vec2 d, nt_real t0, nt_re
             ty += tdy;
             cy += sy;
         }
+    }
+}
+
+/* The bodies of one grid level against the segment: the walk over the part of the
+ * segment within 2 of the level's cells of the map (Liang-Barsky: a far-away segment
+ * must not cost a walk through empty space), and the edge cells' lists, where bodies
+ * outside the map live, when part of the segment lies beyond that. */
+static void ray_level_bodies(const nt_world *w, int level, nt_vec2 p0, nt_vec2 d, nt_query_filter filter,
+                             nt_world_ray_hit *best)
+{
+    ray_level L;
+    nt__grid_level_view(w, level, &L.heads, &L.gw, &L.gh, &L.size);
+    nt_real t0 = 0, t1 = 1;
+    nt_real lo[2] = {-2 * L.size, -2 * L.size};
+    nt_real hi[2] = {((nt_real)L.gw + 2) * L.size, ((nt_real)L.gh + 2) * L.size};
+    nt_real o[2] = {p0.x, p0.y}, dd[2] = {d.x, d.y};
+    for (int k = 0; k < 2 && t0 <= t1; k++) {
+        if (dd[k] == 0) {
+            if (o[k] < lo[k] || o[k] > hi[k]) t1 = -1;
+            continue;
+        }
+        nt_real ta = (lo[k] - o[k]) / dd[k], tb = (hi[k] - o[k]) / dd[k];
+        if (ta > tb) {
+            nt_real t = ta;
+            ta = tb;
+            tb = t;
+        }
+        if (ta > t0) t0 = ta;
+        if (tb < t1) t1 = tb;
+    }
+    if (t0 <= t1) ray_walk(w, &L, p0, d, t0, t1, filter, best);
+    if (t0 > 0 || t1 < 1) {
+        for (int gy = 0; gy < L.gh; gy++)
+            for (int gx = 0; gx < L.gw; gx++) {
+                if (gy != 0 && gy != L.gh - 1 && gx != 0 && gx != L.gw - 1) continue;
+                ray_cell(w, &L, gy * L.gw + gx, p0, d, filter, best);
+            }
     }
 }
 
@@ -1218,36 +1277,8 @@ bool nt_world_raycast(const nt_world *w, nt_vec2 p0, nt_vec2 p1, nt_query_filter
     }
     if (w->heads && w->grid_bodies > 0 && filter.mask != 0) {
         nt_vec2 d = nt__sub(p1, p0);
-        /* Walk only the part of the segment within 2 cells of the map (Liang-Barsky):
-         * a far-away segment must not cost a walk through empty space. */
-        nt_real t0 = 0, t1 = 1;
-        nt_real lo[2] = {-2 * w->cell, -2 * w->cell};
-        nt_real hi[2] = {((nt_real)w->grid_w + 2) * w->cell, ((nt_real)w->grid_h + 2) * w->cell};
-        nt_real o[2] = {p0.x, p0.y}, dd[2] = {d.x, d.y};
-        for (int k = 0; k < 2 && t0 <= t1; k++) {
-            if (dd[k] == 0) {
-                if (o[k] < lo[k] || o[k] > hi[k]) t1 = -1;
-                continue;
-            }
-            nt_real ta = (lo[k] - o[k]) / dd[k], tb = (hi[k] - o[k]) / dd[k];
-            if (ta > tb) {
-                nt_real t = ta;
-                ta = tb;
-                tb = t;
-            }
-            if (ta > t0) t0 = ta;
-            if (tb < t1) t1 = tb;
-        }
-        if (t0 <= t1) ray_walk(w, p0, d, t0, t1, filter, &best);
-        /* Bodies outside the map live in the border cells' lists: when part of the
-         * segment lies beyond the walked box, test those directly. */
-        if (t0 > 0 || t1 < 1) {
-            for (int gy = 0; gy < w->grid_h; gy++)
-                for (int gx = 0; gx < w->grid_w; gx++) {
-                    if (gy != 0 && gy != w->grid_h - 1 && gx != 0 && gx != w->grid_w - 1) continue;
-                    ray_cell(w, gy * w->grid_w + gx, p0, d, filter, &best);
-                }
-        }
+        for (int lv = 0; lv < NT__LEVELS; lv++)
+            if (nt__grid_level_used(w, lv)) ray_level_bodies(w, lv, p0, d, filter, &best);
     }
     if (best.fraction > 1) return false;
     if (out) *out = best;
@@ -1360,6 +1391,31 @@ static void draw_vector(const nt_debug_draw *dd, nt_vec2 p, nt_vec2 v, uint32_t 
     else if (dd->draw_segment) dd->draw_segment(p, q, color, dd->context);
 }
 
+/* The occupied cells of the coarser grid levels (bodies above half a cell), each
+ * level a shade lighter than the one below. */
+static void draw_coarse_cells(const nt_world *w, const nt_debug_draw *dd)
+{
+    static const uint32_t shade[NT__LEVELS] = {0x404080u, 0x5050a0u, 0x6060c0u, 0x7070e0u};
+    for (int lv = 1; lv < NT__LEVELS; lv++) {
+        if (!nt__grid_level_used(w, lv)) continue;
+        const int32_t *heads;
+        int gw, gh;
+        nt_real size;
+        nt__grid_level_view(w, lv, &heads, &gw, &gh, &size);
+        for (int y = 0; y < gh; y++)
+            for (int x = 0; x < gw; x++) {
+                int32_t cell = y * gw + x;
+                if (heads[2 * cell] < 0 && heads[2 * cell + 1] < 0) continue;
+                nt_real ox = (nt_real)x * size, oy = (nt_real)y * size;
+                if (dd->use_bounds && (ox > dd->bounds_hi.x || oy > dd->bounds_hi.y || ox + size < dd->bounds_lo.x ||
+                                       oy + size < dd->bounds_lo.y))
+                    continue;
+                nt_vec2 q[4] = {nt_v2(ox, oy), nt_v2(ox, oy + size), nt_v2(ox + size, oy + size), nt_v2(ox + size, oy)};
+                dd->draw_polygon(q, 4, shade[lv], dd->context);
+            }
+    }
+}
+
 void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
 {
     if (!w || !dd) return;
@@ -1401,6 +1457,7 @@ void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
                 }
             }
         }
+    if (dd->draw_grid && dd->draw_polygon) draw_coarse_cells(w, dd);
     for (int32_t i = w->first; i >= 0; i = w->cold[i].cnext) {
         const nt__body *b = &w->bodies[i];
         if (dd->use_bounds && (b->p.x + b->half.x < lo.x || b->p.x - b->half.x > hi.x ||
