@@ -742,6 +742,13 @@ static void test_throw_size_key(void **state)
     expect_status(&r, 0);
     expect_in(r.out, "thrown bodies: 0.6 cells across");
     run_free(&r);
+    /* A 4-cell ball thrown at world (10, 10) would reach outside the map: refused, said why. */
+    scratch_write_text("edge.script", "1 press L\n2 press L\n3 press L\n4 mouse down left 20 20\n4 mouse up left 20 20\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("edge.script"), "--frames", "6", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "cannot throw there: a body larger than half a cell must lie inside the map");
+    expect_in(r.out, "bodies 2 ");
+    run_free(&r);
 }
 
 /* A 20 x 12 room of cells of 24, a FULL floor at row 8 (top y = 192) over an empty

@@ -886,10 +886,10 @@ static void test_objects(void **state)
 static void test_large_objects(void **state)
 {
     (void)state;
-    static const uint32_t g[12 * 6] = {0};
+    static const uint32_t g[12 * 9] = {0};
     for (int fmt = F_TMX; fmt <= F_TMJ; fmt++) {
         mspec m = {
-            .w = 12, .h = 6, .tw = 24, .th = 24,
+            .w = 12, .h = 9, .tw = 24, .th = 24,
             .layers = {
                 {.name = "floor", .kind = L_TILES, .enc = E_CSV, .gids = g},
                 {.name = "things", .kind = L_OBJECTS,
@@ -911,6 +911,10 @@ static void test_large_objects(void **state)
         expect_in(t, "body slab static box 96 0.5 at 96 130.5\n");
         free(t);
         assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
+        nt_world *w = NULL;
+        assert_int_equal(nt_level_create_world(lv, &w, NULL, 0), NT_OK);
+        assert_int_equal(nt_world_get_body_count(w), 4);
+        nt_world_destroy(w);
         nt_level_destroy(lv);
     }
 }
@@ -1064,6 +1068,9 @@ static void test_object_errors(void **state)
          "layer \"o\": object \"ball\" (id 4): a circle of diameter 130 is larger than a body can be (diameter at most 128, 8 cells)", NULL},
         {{.id = 17, .name = "tall", .kind = O_RECT, .x = 1, .y = 1, .w = 16, .h = 128.5},
          "layer \"o\": object \"tall\" (id 17): a box of 16 x 128.5 is larger than a body can be (at most 128 x 128, 8 x 8 cells)", NULL},
+        /* Above half a cell, a body lies wholly inside the map (32 x 32 here). */
+        {{.id = 18, .name = "edge", .kind = O_RECT, .x = 20, .y = 1, .w = 20, .h = 4},
+         "layer \"o\": object \"edge\" (id 18): the body is larger than half a cell, so it must lie inside the map (0 0 .. 32 32)", NULL},
         {{.id = 5, .name = "my crate", .kind = O_RECT, .x = 1, .y = 1, .w = 4, .h = 4},
          "layer \"o\": object \"my crate\" (id 5): \"my crate\" is not an ntile name (a letter or '_', then letters, digits, '_', '-' or '.', at most 31 characters)", NULL},
         {{.id = 6, .name = "a", .kind = O_RECT, .x = 1, .y = 1, .w = 4, .h = 4, .props = {{"type", NULL, "floating"}}},

@@ -84,7 +84,8 @@ typedef struct nt_level_path {
 typedef struct nt_level_body {
     char name[NT_LEVEL_NAME_MAX];
     nt_body_type type;
-    nt_shape shape;  ///< half-size or radius > 0 and at most NT_MAX_HALF_CELLS cells (8 cells across)
+    nt_shape shape;  ///< half-size or radius > 0 and at most NT_MAX_HALF_CELLS cells (8 cells across);
+                     ///< above half a cell the body (each repeat) lies wholly inside the map
     nt_vec2 position;
     nt_vec2 velocity;
     nt_real mass;

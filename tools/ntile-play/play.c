@@ -1029,7 +1029,9 @@ static void throw_body(pg *p, pg_vec from, pg_vec to)
     d.material.bounce = (nt_real)p->bounce;
     nt_body_id id;
     nt_status s = nt_game_add_body(p->game, &d, &id);
-    if (s != NT_OK) say(p, "cannot throw there: %s", nt_status_string(s));
+    if (s == NT_ERR_OUT_OF_RANGE && (double)h > 0.5 * (double)p->level->cell_size)
+        say(p, "cannot throw there: a body larger than half a cell must lie inside the map");
+    else if (s != NT_OK) say(p, "cannot throw there: %s", nt_status_string(s));
 }
 
 typedef struct pick {

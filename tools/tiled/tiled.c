@@ -949,6 +949,12 @@ static nt_status object_body(builder *b, const tl_layer *l, const tl_object *o, 
     if (!in_reach(lv, cx, cy))
         return tl_fail(c, o->loc, "%s: the body lies more than %d cells outside the map", what, NT_WORLD_REACH_CELLS);
     body.position = nt_v2((nt_real)cx, (nt_real)cy);
+    /* The world's rule: a body above half a cell lies wholly inside the map. */
+    nt_vec2 h = body.shape.half, p = body.position;
+    nt_real lim = lv->cell_size * (nt_real)0.5, mw = (nt_real)lv->width * lv->cell_size, mh = (nt_real)lv->height * lv->cell_size;
+    if ((h.x > lim || h.y > lim) && !(p.x - h.x >= 0 && p.y - h.y >= 0 && p.x + h.x <= mw && p.y + h.y <= mh))
+        return tl_fail(c, o->loc, "%s: the body is larger than half a cell, so it must lie inside the map (0 0 .. %g %g)", what,
+                       (double)mw, (double)mh);
     /* type: the property, else Tiled's class field when it names a type. */
     const char *type = NULL;
     if ((s = prop_string(c, what, &o->props, "type", &type)) != NT_OK) return s;
