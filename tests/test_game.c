@@ -790,9 +790,16 @@ static void test_large_bodies(void **state)
     assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0 + 1);
     steps(g, 0, 80);
     nt_vec2 bp = nt_body_get_position(w, big);
+    nt_game_destroy(g);
+    g = NULL;
     assert_true(bp.y > 100 && bp.y <= 216 - 48 + R(0.5)); /* fell, and not into the floor */
     assert_true(bp.x >= 24 + 48 - R(0.5) && bp.x <= 360 - 48 + R(0.5)); /* between the walls */
-    nt_game_destroy(g);
+    nt_level_destroy(lv);
+    /* A large body on a path starts where the path puts it: it must fit the map there. */
+    lv = level_from(ROOM_TILES "path out pingpong speed 20 points 30 150 300 150\n"
+                               "body platform kinematic box 48 6 at 250 150 path out\n");
+    assert_int_equal(nt_game_create(lv, NULL, &g), NT_ERR_OUT_OF_RANGE);
+    assert_null(g);
     nt_level_destroy(lv);
 }
 

@@ -105,6 +105,9 @@ typedef struct nt_game_state {
 } nt_game_state;
 
 /// Build a game from a level (which must outlive the game). On failure *out is NULL.
+/// Bodies on paths start where their path puts them at time 0: one above half a cell
+/// must lie wholly inside the map there (else NT_ERR_OUT_OF_RANGE, as the world
+/// requires); so must a large body a spawner creates (nt_game_step fails otherwise).
 nt_status nt_game_create(const nt_level *level, const nt_game_def *def, nt_game **out);
 
 /// Destroy a game and its world (NULL is ignored).
