@@ -382,9 +382,12 @@ static void draw_hud(pg *p, pg_canvas *c, double fps, int ts)
         snprintf(state, sizeof state, "  %s", st.complete ? "COMPLETE" : !st.alive ? "DEAD (R restarts)" : "alive");
     snprintf(lines[n++], sizeof lines[0], "fps %.0f  step %.0f us  bodies %d (awake %d)  score %d%s", fps, p->step_us,
              w ? nt_world_get_body_count(w) : 0, w ? nt_world_get_awake_count(w) : 0, st.score, state);
+    double across = pg__throw_cells(p);
     snprintf(lines[n++], sizeof lines[0],
-             "throw %s (Q) %g cell%s across (L)  bounce %.2f ([ ])  friction %.2f (; ')  friction model %s (F: rebuilds the world from the level)",
-             p->throw_circle ? "ball" : "box", pg__throw_cells(p), pg__throw_cells(p) == 1 ? "" : "s", p->bounce, p->friction, model_name(p->level->friction_model));
+             "throw %s (Q) %g cell%s across (L)  bounce %.2f ([ ])  friction %.2f (; ')  friction model %s (F: rebuilds the "
+             "world from the level)",
+             p->throw_circle ? "ball" : "box", across, across == 1 ? "" : "s", p->bounce, p->friction,
+             model_name(p->level->friction_model));
     char gl[200] = "";
     for (int g = 0; g < PG_GZ_COUNT; g++)
         if (gz(p, g)) {
