@@ -241,7 +241,7 @@ soak: $(BUILD)/ntile
 
 # ---- benchmarks: figures measured on the machine that runs them (RUNS >= 5) ----
 RUNS ?= 5
-BENCH_SCENES ?= rain particles sparse pile asleep slide bounce gas incline flight rest tunnel
+BENCH_SCENES ?= rain particles giants sparse pile asleep slide bounce gas incline flight rest tunnel
 bench: $(BUILD)/ntile
 	$(BUILD)/ntile bench world $(BENCH_SCENES) --runs $(RUNS)
 	$(BUILD)/ntile bench scaling --runs $(RUNS)

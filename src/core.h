@@ -326,6 +326,7 @@ struct nt_world {
      * level k has cells 2^k map cells wide, 2 list heads each, all levels in one
      * array from lbase[k]; NULL until the first such body enters the grid. */
     int32_t *lheads;
+    uint64_t *loccupied;       /* bit per list head of lheads: the list is not empty */
     int lbase[NT__LEVELS], lw[NT__LEVELS], lh[NT__LEVELS];
     int lcount[NT__LEVELS][2]; /* bodies per level and list */
     int large_count;           /* bodies above half a cell in the grid (all levels >= 1) */

@@ -50,10 +50,18 @@ static nt_status enable_levels(nt_world *w)
         w->lbase[k] = n;
         n += w->lw[k] * w->lh[k];
     }
+    size_t words = (2 * (size_t)n + 63) / 64;
     int32_t *h = (int32_t *)nt__alloc(2 * (size_t)n * sizeof *h);
-    if (!h) return NT_ERR_OUT_OF_MEMORY;
+    uint64_t *occ = (uint64_t *)nt__alloc(words * sizeof *occ);
+    if (!h || !occ) {
+        nt__free(h);
+        nt__free(occ);
+        return NT_ERR_OUT_OF_MEMORY;
+    }
     memset(h, 0xff, 2 * (size_t)n * sizeof *h); /* -1 everywhere */
+    memset(occ, 0, words * sizeof *occ);
     w->lheads = h;
+    w->loccupied = occ;
     return NT_OK;
 }
 
@@ -141,6 +149,18 @@ static inline void unlink(nt_world *w, int32_t i)
     b->gnext = b->gprev = -1;
 }
 
+/* Index of the lowest set bit (bits != 0). */
+static inline int nt__ctz64(uint64_t bits)
+{
+#if defined(__GNUC__)
+    return __builtin_ctzll(bits);
+#else
+    int n = 0;
+    while (!(bits & 1)) bits >>= 1, n++;
+    return n;
+#endif
+}
+
 /* The coarser level's cell of a centre (clamped to the level's grid). */
 static inline int32_t level_cell(const nt_world *w, int k, nt_vec2 p)
 {
@@ -162,6 +182,7 @@ static void link_large(nt_world *w, int32_t i, int32_t head)
     b->gnext = first;
     if (first >= 0) w->bodies[first].gprev = i;
     w->lheads[head] = i;
+    w->loccupied[(uint32_t)head >> 6] |= (uint64_t)1 << (head & 63);
     w->lcount[b->level][head & 1]++;
 }
 
@@ -170,7 +191,10 @@ static void unlink_large(nt_world *w, int32_t i)
     nt__body *b = &w->bodies[i];
     w->lcount[b->level][b->gcell & 1]--;
     if (b->gprev >= 0) w->bodies[b->gprev].gnext = b->gnext;
-    else w->lheads[b->gcell] = b->gnext;
+    else {
+        w->lheads[b->gcell] = b->gnext;
+        if (b->gnext < 0) w->loccupied[(uint32_t)b->gcell >> 6] &= ~((uint64_t)1 << (b->gcell & 63));
+    }
     if (b->gnext >= 0) w->bodies[b->gnext].gprev = b->gprev;
     b->gnext = b->gprev = -1;
 }
@@ -499,29 +523,55 @@ static void view_range(const level_view *v, nt_vec2 lo, nt_vec2 hi, int r[4])
  * the lists of level lv over the cells whose bodies can come within the largest
  * contact margin (one cell) of it: their centres lie within its half-size, the
  * level's largest half-size and a cell. */
+/* Test body i against the bodies of the lists of cells x0..x1 in rows y0..y1 of a
+ * level (r), reading its bitmap of non-empty lists a word at a time: occ and heads
+ * are indexed by 2 * (base + cell) + list. `want` keeps the wanted lists' bits
+ * (ACTIVE: even bits, REST: odd bits); ACTIVE bodies of the body's own level are
+ * met only when their slot is after i (the other one meets the rest). */
+static int scan_lists(nt_world *w, int32_t i, const uint64_t *occ, const int32_t *heads, uint32_t base, int gw,
+                      const int r[4], uint64_t want, int own_level, int *tests)
+{
+    for (int y = r[1]; y <= r[3]; y++) {
+        uint32_t b0 = 2 * (base + (uint32_t)(y * gw + r[0])), b1 = 2 * (base + (uint32_t)(y * gw + r[2])) + 1;
+        for (uint32_t wd = b0 >> 6; wd <= b1 >> 6; wd++) {
+            uint64_t bits = occ[wd] & want;
+            if (wd == b0 >> 6) bits &= ~(uint64_t)0 << (b0 & 63);
+            if (wd == b1 >> 6) bits &= ~(uint64_t)0 >> (63 - (b1 & 63));
+            while (bits) {
+                uint32_t head = wd * 64 + (uint32_t)nt__ctz64(bits);
+                bits &= bits - 1;
+                int skip_before = own_level && !(head & 1);
+                for (int32_t j = heads[head]; j >= 0; j = w->bodies[j].gnext) {
+                    if (skip_before && j <= i) continue; /* met from j's side */
+                    (*tests)++;
+                    if (!test_pair(w, i, j)) return 0;
+                }
+            }
+        }
+    }
+    return 1;
+}
+
 static int large_pairs_of(nt_world *w, int32_t i, int *tests)
 {
+    const uint64_t ACTIVE = 0x5555555555555555ull, REST = ~ACTIVE;
     const nt__body *b = &w->bodies[i];
     const int own = b->level;
-    for (int lv = 0; lv < NT__LEVELS; lv++) {
+    for (int lv = own ? 0 : 1; lv < NT__LEVELS; lv++) {
         /* Which lists: both below, REST and later ACTIVE ones at its own level, REST above. */
-        int any_active = lv < own || lv == own, any_rest = 1;
-        if (lv > 0 && !w->lcount[lv][NT__LIST_ACTIVE]) any_active = 0;
-        if (lv > 0 && !w->lcount[lv][NT__LIST_REST]) any_rest = 0;
-        if (lv == 0 && own == 0) continue; /* level 0 among itself: the proxies */
-        if (!any_active && !any_rest) continue;
+        uint64_t want = lv <= own ? ACTIVE | REST : REST;
+        if (lv > 0) {
+            if (!w->lcount[lv][NT__LIST_ACTIVE]) want &= REST;
+            if (!w->lcount[lv][NT__LIST_REST]) want &= ACTIVE;
+            if (!want) continue;
+        }
         level_view v = view_of(w, lv);
         nt_real ex = b->half.x + R(0.5) * v.size + w->cell, ey = b->half.y + R(0.5) * v.size + w->cell;
         int r[4];
         view_range(&v, nt_v2(b->p.x - ex, b->p.y - ey), nt_v2(b->p.x + ex, b->p.y + ey), r);
-        for (int y = r[1]; y <= r[3]; y++)
-            for (int x = r[0]; x <= r[2]; x++)
-                for (int list = any_active ? 0 : 1; list <= any_rest; list++)
-                    for (int32_t j = v.heads[2 * (y * v.w + x) + list]; j >= 0; j = w->bodies[j].gnext) {
-                        if (list == NT__LIST_ACTIVE && lv == own && j <= i) continue; /* met from j's side */
-                        (*tests)++;
-                        if (!test_pair(w, i, j)) return 0;
-                    }
+        int ok = lv ? scan_lists(w, i, w->loccupied, w->lheads, (uint32_t)w->lbase[lv], v.w, r, want, lv == own, tests)
+                    : scan_lists(w, i, w->occupied, w->heads, 0, v.w, r, want, 0, tests);
+        if (!ok) return 0;
     }
     return 1;
 }

@@ -428,11 +428,18 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
     nt_vec2 p = res->push;
     nt_real skin = skin_at(w, b->p);
     if (res->contact_count == 2) {
-        /* p' = p - skin * c with c.n1 = c.n2 = 1. */
+        /* p' = p - skin * c with c.n1 = c.n2 = 1. Between surfaces facing each other
+         * (a pinch: normals more than 120 degrees apart) c is long, and skin * c would
+         * sink the body several skins into the tiles along it: for a body above half a
+         * cell, which meets such pinches along its long sides, c is cut to length 2,
+         * which still leaves it inside both. (Small bodies keep the old rule, so that
+         * their recorded replays stay bit for bit the same.) */
         nt_vec2 n1 = res->contacts[0].normal, n2 = res->contacts[1].normal;
         nt_real det = n1.x * n2.y - n1.y * n2.x;
         if (nt__fabs(det) > R(0.1)) {
             nt_vec2 c = nt_v2((n2.y - n1.y) / det, (n1.x - n2.x) / det);
+            nt_real c2 = nt__dot(c, c);
+            if (c2 > 4 && (b->flags & NT__BF_LARGE)) c = nt__scale(c, 2 / nt__sqrt(c2));
             b->p.x += p.x - skin * c.x;
             b->p.y += p.y - skin * c.y;
             return;

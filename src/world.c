@@ -197,6 +197,7 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->occupied);
     nt__free(w->rest_near);
     nt__free(w->lheads);
+    nt__free(w->loccupied);
     nt__free(w->sort_keys);
     nt__free(w->prox);
     nt__free(w->prox_tmp);

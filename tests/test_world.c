@@ -218,8 +218,8 @@ static void test_body_def_errors(void **state)
         {NT_ERR_NON_FINITE, 0},       /* NaN position */
         {NT_ERR_NON_FINITE, 1},       /* infinite velocity */
         {NT_ERR_NON_FINITE, 2},       /* NaN mass */
-        {NT_ERR_SHAPE_TOO_LARGE, 3},  /* half-width above half a cell */
-        {NT_ERR_SHAPE_TOO_LARGE, 4},  /* radius above half a cell */
+        {NT_ERR_SHAPE_TOO_LARGE, 3},  /* half-width above NT_MAX_HALF_CELLS */
+        {NT_ERR_SHAPE_TOO_LARGE, 4},  /* radius above NT_MAX_HALF_CELLS */
         {NT_ERR_INVALID_ARGUMENT, 5}, /* zero size */
         {NT_ERR_INVALID_ARGUMENT, 6}, /* negative size */
         {NT_ERR_INVALID_ARGUMENT, 7}, /* zero mass, dynamic */
@@ -243,8 +243,8 @@ static void test_body_def_errors(void **state)
         case 0: d.position.x = (nt_real)NAN; break;
         case 1: d.velocity.y = (nt_real)INFINITY; break;
         case 2: d.mass = (nt_real)NAN; break;
-        case 3: d.shape = nt_shape_aabb(R(0.51), R(0.25)); break;
-        case 4: d.shape = nt_shape_circle(R(0.5001)); break;
+        case 3: d.shape = nt_shape_aabb(R(NT_MAX_HALF_CELLS + 0.01), R(0.25)); break;
+        case 4: d.shape = nt_shape_circle(R(NT_MAX_HALF_CELLS + 0.0001)); break;
         case 5: d.shape = nt_shape_aabb(0, R(0.25)); break;
         case 6: d.shape = nt_shape_circle(R(-0.1)); break;
         case 7: d.mass = 0; break;

@@ -257,12 +257,457 @@ static void test_kinematic_platform_carries_riders(void **state)
     }
 }
 
+
+/* ---------------------------------------------------------------- walking over seams */
+
+/* The course: a 220-cell FULL floor with a 45-degree ramp up to a plateau and down
+ * again, then a 22-degree ramp up (two tiles a cell of rise) and down. Row F is the
+ * floor; the plateaus sit on row F - 1. */
+enum { COURSE_W = 224, COURSE_H = 14, COURSE_F = 12 };
+
+static void build_course(nt_world *w)
+{
+    for (int x = 0; x < COURSE_W; x++) nt_world_set_tile(w, x, COURSE_F, NT_TILE_FULL);
+    nt_world_set_tile(w, 60, COURSE_F - 1, NT_TILE_45DEGnn);
+    for (int x = 61; x < 90; x++) nt_world_set_tile(w, x, COURSE_F - 1, NT_TILE_FULL);
+    nt_world_set_tile(w, 90, COURSE_F - 1, NT_TILE_45DEGpn);
+    nt_world_set_tile(w, 120, COURSE_F - 1, NT_TILE_22DEGnnS);
+    nt_world_set_tile(w, 121, COURSE_F - 1, NT_TILE_22DEGnnB);
+    for (int x = 122; x < 150; x++) nt_world_set_tile(w, x, COURSE_F - 1, NT_TILE_FULL);
+    nt_world_set_tile(w, 150, COURSE_F - 1, NT_TILE_22DEGpnB);
+    nt_world_set_tile(w, 151, COURSE_F - 1, NT_TILE_22DEGpnS);
+}
+
+/* The steepest rise (dy/dx) of the course's surface under x0..x1. */
+static double course_slope(const nt_world *w, double x0, double x1)
+{
+    double worst = 0;
+    for (int x = (int)floor(x0); x <= (int)floor(x1); x++) {
+        int t = nt_world_get_tile(w, x, COURSE_F - 1);
+        if (t == NT_TILE_45DEGnn || t == NT_TILE_45DEGpn) worst = fmax(worst, 1);
+        if (t == NT_TILE_22DEGnnS || t == NT_TILE_22DEGnnB || t == NT_TILE_22DEGpnS || t == NT_TILE_22DEGpnB)
+            worst = fmax(worst, 0.5);
+    }
+    return worst;
+}
+
+/* A 1 x 2-cell box walks the course both ways (its horizontal velocity set every
+ * step): it never gains upward speed beyond what the slope under it gives (none on
+ * flat ground, at the seams between its tiles, or where slopes join flat ground),
+ * never stops, and ends every step free of the tiles. Both friction models. */
+static void test_tall_box_walks_over_seams_and_slopes(void **state)
+{
+    (void)state;
+    for (int model = 0; model < 2; model++)
+        for (int dir = -1; dir <= 1; dir += 2) {
+            nt_world *w = make_world(COURSE_W, COURSE_H, 1, nt_v2(0, 10), (nt_friction_model)model, false);
+            build_course(w);
+            const nt_real speed = 4; /* cells/s */
+            double x = dir > 0 ? 3 : COURSE_W - 3;
+            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.5), 1), nt_v2((nt_real)x, COURSE_F - 1),
+                                     nt_v2(0, 0), R(0.2));
+            for (int k = 0; k < 30; k++) nt_world_step(w, DT); /* land */
+            int steps = 0, flat_checks = 0;
+            double worst_rise = 0, worst_depth = 0;
+            while (steps < 4000) {
+                nt_vec2 p = nt_body_get_position(w, id);
+                if (dir > 0 ? p.x > COURSE_W - 4 : p.x < 4) break;
+                nt_vec2 v = nt_body_get_velocity(w, id);
+                assert_int_equal(nt_body_set_velocity(w, id, nt_v2(speed * (nt_real)dir, v.y)), NT_OK);
+                assert_int_equal(nt_world_step(w, DT), NT_OK);
+                steps++;
+                nt_vec2 q = nt_body_get_position(w, id), vq = nt_body_get_velocity(w, id);
+                double moved = ((double)q.x - (double)p.x) * dir;
+                if (moved < 0.2 * (double)speed * (double)DT)
+                    fail_msg("model %d dir %d: stopped at x = %.4f (moved %.3g)", model, dir, (double)p.x, moved);
+                /* Upward speed allowed: the steepest slope within a cell of the box. */
+                double slope = course_slope(w, (double)q.x - 1.5, (double)q.x + 1.5);
+                double rise = -(double)vq.y - slope * (double)speed;
+                if (slope == 0) flat_checks++;
+                worst_rise = fmax(worst_rise, rise);
+                if (rise > 1e-3 * (double)speed)
+                    fail_msg("model %d dir %d: upward speed %.4g at x = %.4f (slope %.2f)", model, dir, -(double)vq.y,
+                             (double)q.x, slope);
+                double depth = (double)nt_map_overlap_depth(nt_world_get_map(w), q, nt_body_get_shape(w, id));
+                worst_depth = fmax(worst_depth, depth);
+                assert_true(depth < 1e-3);
+            }
+            assert_true(steps < 4000);
+            assert_true(flat_checks > 1000);
+            print_message("  model %d dir %+d: %d steps, worst extra rise %.2g cell/s, worst depth %.2g cell\n", model,
+                          dir, steps, worst_rise, worst_depth);
+            nt_world_destroy(w);
+        }
+}
+
+/* ---------------------------------------------------------------- firing at tiles */
+
+/* Large boxes and circles fired at a wall made of one tile shape (a column, or a row,
+ * spanning the map; the border closes it) at up to the speed limit and at an angle:
+ * every step they end free of the tiles and never reach the wall's far side. Their
+ * halves are at least half a cell, so no gap of a column (HALF tiles leave half a
+ * cell) lets them through. */
+static void test_large_bodies_fired_at_every_tile(void **state)
+{
+    (void)state;
+    const nt_shape shapes[] = {nt_shape_aabb(R(0.6), R(0.6)), nt_shape_aabb(4, R(0.5)), nt_shape_aabb(R(0.5), 4),
+                               nt_shape_circle(2), nt_shape_circle(R(0.75)), nt_shape_aabb(3, 3)};
+    const double speeds[] = {4, 2.5, 1}; /* cells per step; 4 is the speed limit */
+    const double angles[] = {0, 0.5};
+    double worst = 0;
+    long runs = 0;
+    for (int tile = NT_TILE_FULL; tile < NT_TILE_COUNT; tile++)
+        for (int vertical = 0; vertical < 2; vertical++)
+            for (int side = -1; side <= 1; side += 2)
+                for (size_t si = 0; si < sizeof shapes / sizeof shapes[0]; si++)
+                    for (size_t vi = 0; vi < 3; vi++)
+                        for (size_t ai = 0; ai < 2; ai++) {
+                            nt_world *w = make_world(40, 40, 1, nt_v2(0, 0), NT_FRICTION_N, false);
+                            for (int k = 0; k < 40; k++) nt_world_set_tile(w, vertical ? k : 20, vertical ? 20 : k, tile);
+                            nt_shape s = shapes[si];
+                            /* Start 9 cells before the wall's near face, moving towards it. */
+                            double along = side < 0 ? 20 - 9 - (vertical ? s.half.y : s.half.x)
+                                                    : 21 + 9 + (vertical ? s.half.y : s.half.x);
+                            double across = 20 + (double)si - 2.5;
+                            double sp = speeds[vi] / (double)DT, a = angles[ai] * (si % 2 ? 1 : -1);
+                            double va = -side * sp * cos(a), vc = sp * sin(a);
+                            nt_vec2 p = vertical ? nt_v2((nt_real)across, (nt_real)along) : nt_v2((nt_real)along, (nt_real)across);
+                            nt_vec2 v = vertical ? nt_v2((nt_real)vc, (nt_real)va) : nt_v2((nt_real)va, (nt_real)vc);
+                            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, s, p, v, R(0.05));
+                            for (int k = 0; k < 12; k++) {
+                                assert_int_equal(nt_world_step(w, DT), NT_OK);
+                                nt_vec2 q = nt_body_get_position(w, id);
+                                double depth = (double)nt_map_overlap_depth(nt_world_get_map(w), q, s);
+                                worst = fmax(worst, depth);
+                                double c = vertical ? (double)q.y : (double)q.x;
+                                if (depth > 1e-3 || (side < 0 ? c > 21 : c < 20))
+                                    fail_msg("tile %d %s side %d shape %zu speed %g angle %g step %d: at (%.4f, %.4f), "
+                                             "depth %.3g",
+                                             tile, vertical ? "row" : "column", side, si, speeds[vi], a, k, (double)q.x,
+                                             (double)q.y, depth);
+                            }
+                            runs++;
+                            nt_world_destroy(w);
+                        }
+    print_message("  %ld runs, worst depth %.3g cell\n", runs, worst);
+}
+
+/* ---------------------------------------------------------------- a mixed pile */
+
+static double overlap_of(const nt_world *w, nt_body_id a, nt_body_id b)
+{
+    return -shape_distance(nt_body_get_shape(w, a), nt_body_get_position(w, a), nt_body_get_shape(w, b),
+                           nt_body_get_position(w, b));
+}
+
+/* Small and large bodies (a 6 x 0.8-cell plank among them) dropped into a box
+ * settle: free of the tiles every step, overlapping each other by less than 0.05 cell
+ * once settled, and asleep (Coulomb friction; see below for N's model). */
+static void test_mixed_pile_settles(void **state)
+{
+    (void)state;
+    for (int model = 0; model < 2; model++) {
+        nt_world *w = make_world(32, 24, 1, nt_v2(0, 10), (nt_friction_model)model, true);
+        for (int x = 0; x < 32; x++) nt_world_set_tile(w, x, 23, NT_TILE_FULL);
+        for (int y = 0; y < 24; y++) nt_world_set_tile(w, 0, y, NT_TILE_FULL), nt_world_set_tile(w, 31, y, NT_TILE_FULL);
+        nt_world_set_tile(w, 1, 22, NT_TILE_45DEGpn);
+        nt_world_set_tile(w, 30, 22, NT_TILE_45DEGnn);
+        ref_rng rng = ref_rng_seed(18 + (unsigned)model);
+        nt_body_id ids[96];
+        int n = 0;
+        const nt_shape large[] = {nt_shape_aabb(R(0.5), 1), nt_shape_aabb(1, 1), nt_shape_circle(R(1.5)),
+                                  nt_shape_aabb(3, R(0.4)), nt_shape_aabb(2, 2), nt_shape_circle(R(0.8))};
+        for (int row = 0; row < 8; row++)
+            for (int col = 0; col < 10 && n < 96; col++) {
+                nt_shape s;
+                if ((row + col) % 4 == 0) s = large[(row * 10 + col) % 6];
+                else if (ref_rng_int(&rng, 2)) s = nt_shape_circle((nt_real)ref_rng_uniform(&rng, 0.15, 0.5));
+                else s = nt_shape_aabb((nt_real)ref_rng_uniform(&rng, 0.15, 0.5), (nt_real)ref_rng_uniform(&rng, 0.15, 0.5));
+                double x = 2.5 + col * 2.7 + ref_rng_uniform(&rng, -0.2, 0.2);
+                x = fmin(fmax(x, 1 + s.half.x + 0.01), 31 - s.half.x - 0.01);
+                double y = 20 - row * 2.6;
+                if (y - s.half.y < 0.5) continue;
+                ids[n++] = add_body(w, NT_BODY_DYNAMIC, s, nt_v2((nt_real)x, (nt_real)y), nt_v2(0, 0), R(0.4));
+            }
+        double worst_tile = 0, worst_pair = 0;
+        int step = 0, asleep_at = -1;
+        for (; step < 2400; step++) {
+            assert_int_equal(nt_world_step(w, DT), NT_OK);
+            for (int k = 0; k < n; k++) {
+                double d = (double)nt_map_overlap_depth(nt_world_get_map(w), nt_body_get_position(w, ids[k]),
+                                                        nt_body_get_shape(w, ids[k]));
+                worst_tile = fmax(worst_tile, d);
+                if (d > 1e-3) fail_msg("model %d step %d: body %d %.3g cell into the tiles", model, step, k, d);
+            }
+            if (step >= 600)
+                for (int a = 0; a < n; a++)
+                    for (int b = a + 1; b < n; b++) worst_pair = fmax(worst_pair, overlap_of(w, ids[a], ids[b]));
+            if (nt_world_get_awake_count(w) == 0) {
+                asleep_at = step;
+                break;
+            }
+        }
+        print_message("  model %d: %d bodies asleep at step %d; worst tile depth %.3g, worst pair overlap after 10 s %.3g cell\n",
+                      model, n, asleep_at, worst_tile, worst_pair);
+        /* N's slippery model keeps a pile flowing (a documented limit, the same with
+         * small bodies only): only the Coulomb pile must fall asleep. */
+        if (model == NT_FRICTION_COULOMB) assert_true(asleep_at >= 0);
+        assert_true(worst_pair < 0.05);
+        nt_world_destroy(w);
+    }
+}
+
+/* ---------------------------------------------------------------- queries */
+
+/* Independent answers: the point strictly inside, the box overlapping the interior,
+ * the segment's entry fraction (2 when it does not enter). */
+static bool ref_point_in(nt_shape s, nt_vec2 c, double x, double y)
+{
+    double dx = x - (double)c.x, dy = y - (double)c.y;
+    if (s.type == NT_SHAPE_CIRCLE) return dx * dx + dy * dy < (double)s.half.x * (double)s.half.x;
+    return fabs(dx) < (double)s.half.x && fabs(dy) < (double)s.half.y;
+}
+
+static bool ref_box_overlaps(nt_shape s, nt_vec2 c, double lx, double ly, double hx, double hy)
+{
+    if (s.type == NT_SHAPE_CIRCLE) {
+        double px = fmin(fmax((double)c.x, lx), hx), py = fmin(fmax((double)c.y, ly), hy);
+        double dx = px - (double)c.x, dy = py - (double)c.y;
+        return dx * dx + dy * dy < (double)s.half.x * (double)s.half.x;
+    }
+    return (double)c.x - (double)s.half.x < hx && (double)c.x + (double)s.half.x > lx &&
+           (double)c.y - (double)s.half.y < hy && (double)c.y + (double)s.half.y > ly;
+}
+
+static double ref_ray(nt_shape s, nt_vec2 c, double x0, double y0, double dx, double dy)
+{
+    double ox = x0 - (double)c.x, oy = y0 - (double)c.y;
+    if (s.type == NT_SHAPE_CIRCLE) {
+        double r = (double)s.half.x, a = dx * dx + dy * dy, b = ox * dx + oy * dy, cc = ox * ox + oy * oy - r * r;
+        if (cc < 0) return 0;
+        double disc = b * b - a * cc;
+        if (disc <= 0 || a == 0) return 2;
+        double t = (-b - sqrt(disc)) / a;
+        return (t >= 0 && t <= 1) ? t : 2;
+    }
+    double t0 = 0, t1 = 1, o[2] = {ox, oy}, d[2] = {dx, dy}, h[2] = {(double)s.half.x, (double)s.half.y};
+    for (int k = 0; k < 2; k++) {
+        if (d[k] == 0) {
+            if (o[k] <= -h[k] || o[k] >= h[k]) return 2;
+            continue;
+        }
+        double a = (-h[k] - o[k]) / d[k], b = (h[k] - o[k]) / d[k];
+        if (a > b) {
+            double t = a;
+            a = b;
+            b = t;
+        }
+        t0 = fmax(t0, a);
+        t1 = fmin(t1, b);
+    }
+    return t0 < t1 ? t0 : 2;
+}
+
+static bool count_fn(nt_body_id id, void *ctx)
+{
+    (void)id;
+    (*(int *)ctx)++;
+    return true;
+}
+
+/* Point, box and ray queries see large bodies wherever their shapes reach, however
+ * far from the cell holding their centre: compared with brute force over random
+ * large and small bodies of every type, asleep or awake. */
+static void test_queries_see_large_bodies(void **state)
+{
+    (void)state;
+    ref_rng rng = ref_rng_seed(1818);
+    const nt_real cell = 2;
+    nt_world *w = make_world(40, 30, cell, nt_v2(0, 0), NT_FRICTION_N, true);
+    enum { N = 60 };
+    nt_body_id ids[N];
+    for (int k = 0; k < N; k++) {
+        double h = k % 3 ? ref_rng_uniform(&rng, 0.55, NT_MAX_HALF_CELLS) : ref_rng_uniform(&rng, 0.1, 0.5);
+        double h2 = ref_rng_uniform(&rng, 0.1, NT_MAX_HALF_CELLS);
+        nt_shape s = k % 2 ? nt_shape_circle((nt_real)(h * cell)) : nt_shape_aabb((nt_real)(h * cell), (nt_real)(h2 * cell));
+        double x = ref_rng_uniform(&rng, (double)s.half.x, 80 - (double)s.half.x);
+        double y = ref_rng_uniform(&rng, (double)s.half.y, 60 - (double)s.half.y);
+        nt_body_def d = nt_default_body_def();
+        d.type = (nt_body_type)(k % 3);
+        d.is_awake = k % 5 != 0;
+        d.shape = s;
+        d.position = nt_v2((nt_real)x, (nt_real)y);
+        assert_int_equal(nt_body_create(w, &d, &ids[k]), NT_OK);
+    }
+    nt_query_filter f = nt_default_query_filter();
+    f.tiles = false;
+    for (int q = 0; q < 2000; q++) {
+        double x = ref_rng_uniform(&rng, -4, 84), y = ref_rng_uniform(&rng, -4, 64);
+        int want = 0;
+        for (int k = 0; k < N; k++) want += ref_point_in(nt_body_get_shape(w, ids[k]), nt_body_get_position(w, ids[k]), x, y);
+        int got = 0;
+        assert_int_equal(nt_world_query_point(w, nt_v2((nt_real)x, (nt_real)y), f, count_fn, &got), want);
+        assert_int_equal(got, want);
+        double bx = x + ref_rng_uniform(&rng, 0, 6), by = y + ref_rng_uniform(&rng, 0, 6);
+        want = 0;
+        for (int k = 0; k < N; k++)
+            want += ref_box_overlaps(nt_body_get_shape(w, ids[k]), nt_body_get_position(w, ids[k]), x, y, bx, by);
+        assert_int_equal(nt_world_overlap_aabb(w, nt_v2((nt_real)x, (nt_real)y), nt_v2((nt_real)bx, (nt_real)by), f, NULL, NULL),
+                         want);
+        double ex = ref_rng_uniform(&rng, -4, 84), ey = ref_rng_uniform(&rng, -4, 64);
+        double best = 2;
+        for (int k = 0; k < N; k++)
+            best = fmin(best, ref_ray(nt_body_get_shape(w, ids[k]), nt_body_get_position(w, ids[k]), x, y, ex - x, ey - y));
+        nt_world_ray_hit hit;
+        bool h = nt_world_raycast(w, nt_v2((nt_real)x, (nt_real)y), nt_v2((nt_real)ex, (nt_real)ey), f, &hit);
+        if (h != (best <= 1) || (h && fabs((double)hit.fraction - best) > 1e-4))
+            fail_msg("ray %d: hit %d at %g, brute force %g", q, (int)h, h ? (double)hit.fraction : -1.0, best);
+    }
+    nt_world_destroy(w);
+}
+
+/* ---------------------------------------------------------------- draw, hash, events */
+
+typedef struct draw_log {
+    int boxes_of_size, circles_of_size, coarse_cells;
+    nt_vec2 want_half;
+    nt_real want_radius, coarse_side;
+} draw_log;
+
+static void log_box(nt_vec2 lo, nt_vec2 hi, uint32_t color, void *ctx)
+{
+    (void)color;
+    draw_log *l = (draw_log *)ctx;
+    if (hi.x - lo.x == 2 * l->want_half.x && hi.y - lo.y == 2 * l->want_half.y) l->boxes_of_size++;
+}
+
+static void log_circle(nt_vec2 c, nt_real r, uint32_t color, void *ctx)
+{
+    (void)c, (void)color;
+    draw_log *l = (draw_log *)ctx;
+    if (r == l->want_radius) l->circles_of_size++;
+}
+
+static void log_polygon(const nt_vec2 *v, int n, uint32_t color, void *ctx)
+{
+    (void)color;
+    draw_log *l = (draw_log *)ctx;
+    if (n == 4 && v[2].x - v[0].x == l->coarse_side && v[2].y - v[0].y == l->coarse_side) l->coarse_cells++;
+}
+
+static void test_draw_hash_events_sleep(void **state)
+{
+    (void)state;
+    /* Debug draw: the bodies at full size, and the coarse cell holding each. */
+    nt_world *w = make_world(30, 20, 1, nt_v2(0, 10), NT_FRICTION_COULOMB, true);
+    for (int x = 0; x < 30; x++) nt_world_set_tile(w, x, 19, NT_TILE_FULL);
+    nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(1.5), 1), nt_v2(10, 8), nt_v2(0, 0), R(0.5));
+    nt_body_id ball = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle(R(2.5)), nt_v2(20, 8), nt_v2(0, 0), R(0.5));
+    draw_log log;
+    memset(&log, 0, sizeof log);
+    log.want_half = nt_v2(R(1.5), 1);
+    log.want_radius = R(2.5);
+    log.coarse_side = 4; /* the crate's level: half 1.5 cells, cells 4 wide */
+    nt_debug_draw dd = nt_default_debug_draw();
+    dd.draw_box = log_box;
+    dd.draw_circle = log_circle;
+    dd.draw_polygon = log_polygon;
+    dd.draw_grid = true;
+    dd.draw_tiles = false;
+    dd.context = &log;
+    nt_world_draw(w, &dd);
+    assert_int_equal(log.boxes_of_size, 1);
+    assert_int_equal(log.circles_of_size, 1);
+    assert_int_equal(log.coarse_cells, 1);
+    /* Events: both land on the floor with a hit event each. */
+    int hits = 0;
+    for (int k = 0; k < 120; k++) {
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        nt_contact_events ev = nt_world_get_contact_events(w);
+        for (int e = 0; e < ev.hit_count; e++)
+            if (nt_body_id_is_null(ev.hit_events[e].b) && ev.hit_events[e].cell_y == 19) hits++;
+    }
+    assert_int_equal(hits, 2);
+    assert_true(fabs((double)nt_body_get_position(w, crate).y - (19 - 1 + 2.5e-4)) < 1e-3);
+    /* Asleep, then woken by a small box dropped on the crate (begin event, both awake). */
+    for (int k = 0; k < 120 && nt_body_is_awake(w, crate); k++) nt_world_step(w, DT);
+    assert_false(nt_body_is_awake(w, crate));
+    assert_false(nt_body_is_awake(w, ball));
+    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.3), R(0.3)), nt_v2(11, 12), nt_v2(0, 0), R(0.5));
+    int began = 0;
+    for (int k = 0; k < 120; k++) {
+        nt_world_step(w, DT);
+        nt_contact_events ev = nt_world_get_contact_events(w);
+        for (int e = 0; e < ev.begin_count; e++)
+            if (nt_body_id_equals(ev.begin_events[e].a, crate) && nt_body_id_equals(ev.begin_events[e].b, small)) {
+                began++;
+                assert_true(nt_body_is_awake(w, crate));
+            }
+    }
+    assert_true(began >= 1); /* a landing can begin, end and begin again (as between small bodies) */
+    assert_true(fabs((double)nt_body_get_position(w, small).y - (17 - 0.3 + 5e-4)) < 2e-3);
+    nt_world_destroy(w);
+    /* The hash: the same run twice gives the same bits; large bodies count in it. */
+    uint64_t hs[2];
+    for (int run = 0; run < 2; run++) {
+        nt_world *v = make_world(30, 20, 1, nt_v2(0, 10), NT_FRICTION_N, true);
+        for (int x = 0; x < 30; x++) nt_world_set_tile(v, x, 19, NT_TILE_FULL);
+        add_body(v, NT_BODY_DYNAMIC, nt_shape_aabb(3, R(0.5)), nt_v2(10, 5), nt_v2(3, 0), R(0.1));
+        add_body(v, NT_BODY_DYNAMIC, nt_shape_circle(2), nt_v2(20, 5), nt_v2(-2, 0), R(0.1));
+        uint64_t h0 = nt_world_hash(v);
+        for (int k = 0; k < 200; k++) nt_world_step(v, DT);
+        hs[run] = nt_world_hash(v);
+        assert_true(hs[run] != h0);
+        nt_world_destroy(v);
+    }
+    assert_true(hs[0] == hs[1]);
+}
+
+/* One-way tiles: a 2 x 1-cell box thrown up from below passes through a one-way
+ * platform and lands on it; without the flag the platform stops it from below. */
+static void test_large_one_way(void **state)
+{
+    (void)state;
+    for (int flag = 1; flag >= 0; flag--) {
+        nt_world *w = make_world(20, 24, 1, nt_v2(0, 10), NT_FRICTION_COULOMB, false);
+        for (int x = 0; x < 20; x++) nt_world_set_tile(w, x, 23, NT_TILE_FULL);
+        for (int x = 4; x <= 14; x++) {
+            nt_world_set_tile(w, x, 12, NT_TILE_HALFu);
+            if (flag) assert_int_equal(nt_world_set_cell_flags(w, x, 12, NT_CELL_ONE_WAY), NT_OK);
+        }
+        nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, R(0.5)), nt_v2(9, R(22.5)), nt_v2(0, -16), R(0.5));
+        double top = 100;
+        for (int k = 0; k < 240; k++) {
+            nt_world_step(w, DT);
+            nt_vec2 p = nt_body_get_position(w, id);
+            top = fmin(top, (double)p.y);
+            assert_true((double)nt_map_overlap_depth(nt_world_get_map(w), p, nt_body_get_shape(w, id)) < 1e-3 ||
+                        flag); /* one-way tiles are passed through from below */
+        }
+        nt_vec2 p = nt_body_get_position(w, id);
+        if (flag) {
+            assert_true(top < 11);
+            assert_true(fabs((double)p.y - (12 - 0.5)) < 1e-3);
+        } else {
+            assert_true(top > 12.5 - 1e-3);
+            assert_true(fabs((double)p.y - (23 - 0.5)) < 1e-3);
+        }
+        nt_world_destroy(w);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_broad_phase_vs_brute_force),
         cmocka_unit_test(test_kinematic_platform_carries_riders),
+        cmocka_unit_test(test_tall_box_walks_over_seams_and_slopes),
+        cmocka_unit_test(test_large_bodies_fired_at_every_tile),
+        cmocka_unit_test(test_mixed_pile_settles),
+        cmocka_unit_test(test_queries_see_large_bodies),
+        cmocka_unit_test(test_draw_hash_events_sleep),
+        cmocka_unit_test(test_large_one_way),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

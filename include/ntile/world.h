@@ -1,7 +1,7 @@
 /* ntile — the world: bodies moving through a tile map.
  *
- * A world owns an nt_map and a set of bodies (boxes or circles no larger than half
- * a cell, never rotating). nt_world_step(world, dt) advances it by dt seconds:
+ * A world owns an nt_map and a set of bodies (boxes or circles of half-size up to
+ * NT_MAX_HALF_CELLS cells, 8 cells across, never rotating). nt_world_step(world, dt) advances it by dt seconds:
  * gravity and drag, contact response against tiles (N's model or Coulomb
  * friction), body-body contacts, sleeping, events. Units are the map's world units
  * and seconds; y points down, so the default gravity (0, +g) pulls downwards.
@@ -26,6 +26,18 @@
  * Contacts rest a "skin" deep (2.5e-4 cell; more far from the origin in float), so
  * that a resting contact is found again every step: a body on a floor sits
  * 2.5e-4 cell into it. nt_map_overlap_depth of any body stays below 1e-3 cell.
+ *
+ * Large bodies: a body above half a cell sits in a coarser level of the loose grid
+ * (cells 2, 4 or 8 map cells wide), meets the tiles over every cell its box covers
+ * (the same exact resolution and seam handling as small bodies) and must lie wholly
+ * inside the map where it is created or placed (NT_ERR_OUT_OF_RANGE otherwise).
+ * Worlds without such bodies do exactly the work they did without them.
+ *
+ * Riders: a dynamic body resting on a kinematic one is carried by their contact
+ * alone. It follows the platform exactly (to rounding) while the platform accelerates
+ * downwards less than gravity and sideways less than friction allows (Coulomb: mu
+ * times gravity); a sharper change makes it slip or lift off as a real body would, and
+ * it lands back on the platform.
  *
  * Friction: tile contacts use the world's model. Body-body contacts use Coulomb
  * friction in the Coulomb model and N's rule on the relative velocity in the N
@@ -225,7 +237,7 @@ uint64_t nt_world_hash(const nt_world *world);
 /// Body definition: fill with nt_default_body_def() then adjust.
 typedef struct nt_body_def {
     nt_body_type type;     ///< default NT_BODY_DYNAMIC
-    nt_shape shape;        ///< default box of half-size 6 x 6; at most half a cell, > 0
+    nt_shape shape;        ///< default box of half-size 6 x 6; > 0 and at most NT_MAX_HALF_CELLS cells
     nt_vec2 position;      ///< centre
     nt_vec2 velocity;      ///< units/s (ignored for static bodies)
     nt_real mass;          ///< > 0 for dynamic bodies; ignored otherwise
@@ -246,8 +258,8 @@ typedef struct nt_body_def {
 nt_body_def nt_default_body_def(void);
 
 /// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
-/// half a cell), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS from the
-/// map), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
+/// NT_MAX_HALF_CELLS cells), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS
+/// from the map; a body above half a cell not wholly inside the map), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
 /// for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
 /// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
@@ -271,7 +283,8 @@ nt_real nt_body_get_mass(const nt_world *world, nt_body_id id);
 nt_vec2 nt_body_get_position(const nt_world *world, nt_body_id id);
 
 /// Move the body to a new centre (no collision on the way); wakes it. NT_ERR_OUT_OF_RANGE
-/// farther than NT_WORLD_REACH_CELLS cells from the map.
+/// farther than NT_WORLD_REACH_CELLS cells from the map, or, for a body above half a cell,
+/// not wholly inside the map.
 nt_status nt_body_set_position(nt_world *world, nt_body_id id, nt_vec2 position);
 
 /// Velocity in units/s.
@@ -460,7 +473,7 @@ typedef struct nt_debug_draw {
     bool use_bounds;
     bool draw_tiles;           ///< tile outlines
     bool draw_edges;           ///< SOLID edges (red) and INTERESTING edges (yellow)
-    bool draw_grid;            ///< broad-phase cells that hold bodies
+    bool draw_grid;            ///< broad-phase cells that hold bodies (coarser levels a lighter blue)
     bool draw_bodies;          ///< bodies, coloured by type and state
     bool draw_velocities;      ///< velocity x 0.1 s (arrow, else segment)
     bool draw_velocity_split;  ///< for bodies on a tile: normal and tangential parts of the velocity

@@ -104,8 +104,14 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
         case 1: { /* create */
             nt_body_def b = nt_default_body_def();
             b.type = (nt_body_type)(wops_byte(&in) % 4); /* 3 is not a type */
-            double half = (double)wops_byte(&in) / 255.0 * 0.6 * (double)cell;
-            b.shape = (wops_byte(&in) & 1) ? nt_shape_circle((nt_real)half) : nt_shape_aabb((nt_real)half, (nt_real)half);
+            /* Mostly up to 0.6 cell (the small-body cap is 0.5); a quarter up to 4.5
+             * cells (the large-body cap is NT_MAX_HALF_CELLS), boxes of unequal halves. */
+            unsigned sz = wops_byte(&in);
+            double half = sz < 192 ? (double)sz / 191.0 * 0.6 * (double)cell
+                                   : (double)(sz - 192) / 63.0 * 4.5 * (double)cell;
+            double half_y = (sz & 4) ? half : half * (double)(wops_byte(&in) + 1) / 256.0;
+            b.shape = (wops_byte(&in) & 1) ? nt_shape_circle((nt_real)half)
+                                           : nt_shape_aabb((nt_real)half, (nt_real)half_y);
             b.position = nt_v2((nt_real)wops_num(&in, mw), (nt_real)wops_num(&in, mh));
             b.velocity = nt_v2((nt_real)wops_num(&in, 200 * (double)cell), (nt_real)wops_num(&in, 200 * (double)cell));
             b.mass = (nt_real)wops_num(&in, 4);

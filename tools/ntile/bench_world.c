@@ -17,7 +17,7 @@
 
 int bench_world(const bench_opts *opts, int nargs, char **args)
 {
-    static const char *const all[] = {"rain", "particles", "sparse", "pile",   "asleep", "scale", "slide",
+    static const char *const all[] = {"rain", "particles", "giants", "sparse", "pile", "asleep", "scale", "slide",
                                       "bounce", "gas",     "incline", "flight", "rest",   "tunnel"};
     const int nall = (int)(sizeof all / sizeof all[0]);
     if (opts->runs < 5) {

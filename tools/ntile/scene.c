@@ -6,6 +6,9 @@
  *              the empty cells of a 256 x 256 map whose ledges use every tile shape,
  *              fall and settle on them (map side grows as sqrt(bodies))
  *   particles  the same scene with every body colliding with tiles only
+ *   giants     rain with bodies of mixed sizes, 0.2 to 4 cells across (log-uniform: half
+ *              are under a cell), boxes of unequal sides and circles (2,000 bodies,
+ *              twice rain's map area per body)
  *   sparse     bodies flying in straight lines (no gravity) through a 256 x 256 map
  *              that is almost empty
  *   pile       a 64-cell-wide container filled with 3000 bodies (Coulomb friction 0.5,
@@ -38,7 +41,7 @@
 #include <string.h>
 #include "bench.h"
 
-const char *const scene_names[] = {"rain",   "particles", "sparse", "pile", "asleep", "slide",    "bounce", "gas",
+const char *const scene_names[] = {"rain",   "particles", "giants", "sparse", "pile", "asleep", "slide",    "bounce", "gas",
                                    "incline", "flight",  "rest",   "tunnel", "free", "touching", NULL};
 
 static const double CELL = 24, GRAVITY = 320, DT = 1.0 / 40;
@@ -211,6 +214,73 @@ static int make_world_scene(scene *s, const char *name, const char *summary, wor
         }
     }
     free(used);
+    return 1;
+}
+
+/* Rain with bodies of mixed sizes, 0.2 to 4 cells across: each body takes a random
+ * place where its box, grown by a tenth of a cell, covers only empty cells that no
+ * body placed before covers (the largest are placed first, where room is easiest to
+ * find); bodies are then created in the order they were placed. */
+static int make_giants(scene *s, int n)
+{
+    uint64_t rng = 0x6769616E7473ull + (uint64_t)n; /* "giants" */
+    /* Twice rain's area per body: the larger bodies need room to be placed. */
+    int side = (int)ceil(256.0 * sqrt(2.0 * (double)n / 10000.0));
+    if (!scene_init(s, "giants", "rain with bodies 0.2 to 4 cells across (half under a cell)", side, side, n)) return 0;
+    rain_tiles(s->tiles, side, &rng);
+    size_t ncells = (size_t)side * (size_t)side;
+    uint8_t *used = calloc(ncells, 1);
+    double *width = malloc((size_t)n * sizeof *width);
+    if (!used || !width) {
+        free(used);
+        free(width);
+        scene_free(s);
+        return 0;
+    }
+    /* Widths log-uniform in [0.2, 4] cells, largest first. */
+    for (int i = 0; i < n; i++) width[i] = 0.2 * exp(bench_rng_range(&rng, 0, log(20.0)));
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && width[j] > width[j - 1]; j--) {
+            double t = width[j];
+            width[j] = width[j - 1];
+            width[j - 1] = t;
+        }
+    for (int i = 0; i < n; i++) {
+        int circle = i & 1;
+        double hx = 0.5 * width[i], hy = circle ? hx : fmin(2.0, fmax(0.1, hx * bench_rng_range(&rng, 0.5, 2.0)));
+        int placed = 0;
+        for (int tries = 0; tries < 4000 && !placed; tries++) {
+            double x = bench_rng_range(&rng, hx + 0.1, side - hx - 0.1);
+            double y = bench_rng_range(&rng, hy + 1.1, side - hy - 1.1);
+            int x0 = (int)floor(x - hx - 0.1), x1 = (int)floor(x + hx + 0.1);
+            int y0 = (int)floor(y - hy - 0.1), y1 = (int)floor(y + hy + 0.1);
+            int ok = 1;
+            for (int cy = y0; cy <= y1 && ok; cy++)
+                for (int cx = x0; cx <= x1; cx++) {
+                    size_t k = (size_t)cy * (size_t)side + (size_t)cx;
+                    if (used[k] || s->tiles[k] != NT_TILE_EMPTY) {
+                        ok = 0;
+                        break;
+                    }
+                }
+            if (!ok) continue;
+            for (int cy = y0; cy <= y1; cy++)
+                for (int cx = x0; cx <= x1; cx++) used[(size_t)cy * (size_t)side + (size_t)cx] = 1;
+            scene_body *b = add_body(s, circle, hx * CELL, x * CELL, y * CELL, bench_rng_range(&rng, -2, 2) * CELL,
+                                     bench_rng_range(&rng, 0, 2) * CELL);
+            b->hy = hy * CELL;
+            placed = 1;
+        }
+        if (!placed) {
+            free(used);
+            free(width);
+            scene_free(s);
+            return 0;
+        }
+    }
+    free(used);
+    free(width);
+    s->steps = 120;
     return 1;
 }
 
@@ -518,6 +588,7 @@ static int make_skip(scene *s, int n, int touching)
 int scene_default_bodies(const char *name)
 {
     if (strcmp(name, "pile") == 0 || strcmp(name, "asleep") == 0) return 3000;
+    if (strcmp(name, "giants") == 0) return 2000;
     if (strcmp(name, "rain") == 0 || strcmp(name, "particles") == 0 || strcmp(name, "sparse") == 0 ||
         strcmp(name, "free") == 0 || strcmp(name, "touching") == 0)
         return 10000;
@@ -539,6 +610,7 @@ int scene_make(const char *name, int n, scene *out)
         out->steps = 120;
         return 1;
     }
+    if (strcmp(name, "giants") == 0) return make_giants(out, nn);
     if (strcmp(name, "sparse") == 0) {
         if (!make_world_scene(out, "sparse", "bodies flying straight through an almost empty 256 x 256 map",
                               KIND_SPARSE, 256, nn, 1))
