@@ -789,12 +789,13 @@ static void test_large_throw_and_paint(void **state)
     expect_status(&r, 0);
     run_free(&r);
     image ia = load_bmp(a), ib = load_bmp(b);
-    /* Asleep on the floor: centre (240, 144), 48 units each way. */
-    expect_pixel(&ia, 480, 2 * 144, PG_BODY_FILL(0x808080u), "the large box asleep on the floor");
+    /* Asleep on the floor: centre (240, 144), 48 units each way (the painting cursor
+     * outlines cell (10, 5), where the click was: looked at beside it). */
+    expect_pixel(&ia, 2 * 230, 2 * 150, PG_BODY_FILL(0x808080u), "the large box asleep on the floor");
     expect_pixel(&ia, 480 + 2 * 44, 2 * 110, PG_BODY_FILL(0x808080u), "inside the large box (48 units half-size)");
     expect_pixel(&ia, 480, 2 * 204, PG_COLOR_TILE, "the floor under it");
     /* The floor painted away: it fell to the bottom row (centre y 216, spans 168..264). */
-    expect_pixel(&ib, 480, 2 * 204, PG_COLOR_BG, "the painted floor cell");
+    expect_pixel(&ib, 2 * 84, 2 * 204, PG_COLOR_BG, "a painted floor cell (3, 8)");
     expect_pixel(&ib, 480, 2 * 120, PG_COLOR_BG, "where the box was");
     uint32_t c = pixel(&ib, 480, 2 * 240);
     if (c != PG_BODY_FILL(0x808080u) && c != PG_BODY_FILL(PG_ENGINE_AWAKE))
