@@ -174,7 +174,8 @@ nt_edge nt_map_get_edge(const nt_map *map, int x, int y, nt_side side)
 /* ------------------------------------------------------------------------------
  * Resolution.
  *
- * Work in cell units. The object overlaps at most 2 x 2 cells. Each overlapped
+ * Work in cell units. An object up to half a cell overlaps at most 2 x 2 cells;
+ * larger ones take resolve_big (below), the same plan sized for them. Each overlapped
  * tile gives its exact minimum translation with the seam faces masked (a push
  * through a face that the neighbour covers only enters the neighbour). The answer
  * is the shortest candidate that frees the object from every tile; a candidate no
@@ -190,6 +191,16 @@ typedef struct cand {
 } cand;
 
 #define MAX_CANDS 4
+
+/* A large object being resolved (cell units), for the helpers of resolve_big that
+ * test it at many places. */
+typedef struct probe {
+    const nt_map *map;
+    nt_shape shape;
+    nt_vec2 h;
+} probe;
+/* Large objects: distinct push normals kept (see resolve_big). */
+#define BIG_CANDS 16
 
 /* Per-tile test in cell units; local coordinates keep float precision. */
 static int tile_test(int tile, nt_real lx, nt_real ly, nt_shape shape, nt_vec2 h, unsigned mask, nt_mtv *m)
@@ -287,6 +298,38 @@ static int is_free_strict(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
     return depth_at(map, p, shape, h) <= R(8) * NT_REAL_EPS * mag;
 }
 
+/* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
+ * the first such tile.) */
+static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+{
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            /* A circle's depth in a tile is at least r minus its centre's distance to
+             * the solid: for CONCAVE tiles (whose way out is a search) that settles
+             * most verdicts. */
+            if (shape.type == NT_SHAPE_CIRCLE && nt__tiles[t].cls == NT_CLASS_CONCAVE) {
+                nt_real gap = nt__concave_gap(t, nt_v2(p.x - (nt_real)x, p.y - (nt_real)y));
+                if (gap >= h.x) continue;
+                if (h.x - gap > tol) return 1;
+            }
+            nt_mtv m;
+            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 1;
+        }
+    return 0;
+}
+
+/* is_free's verdict, by the early-out scan. */
+static int big_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+{
+    return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
+}
+
+static int probe_free(const probe *o, nt_vec2 p) { return big_free(o->map, p, o->shape, o->h); }
+
 /* The displacement d with d.n1 = depth1 and d.n2 = depth2 (the corner of two
  * push planes). Returns 0 when the planes are (nearly) parallel. */
 static int corner(const cand *a, const cand *b, nt_vec2 *d)
@@ -319,6 +362,57 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
         out->contacts[i].cell_x = cc[i]->cx;
         out->contacts[i].cell_y = cc[i]->cy;
     }
+}
+
+/* The shortest freeing push among the candidates: a single, shortest first, or a
+ * corner of two (which may be shorter than a freeing single that goes a long way
+ * round). Nothing shorter than lb, the deepest single-tile overlap, is taken: it
+ * could free the object only within the tolerance of the free test. Small objects
+ * (big = 0) keep their corners within 1.5 cells; large ones test freeness with the
+ * early-out scan (the same verdicts). The scalar parameters, not a probe: the small
+ * path's caller is inlined into nt_map_resolve, where a struct cost 0.5 % of the
+ * particles scene. */
+static int shortest_freeing(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
+                            int big, nt_resolution *out)
+{
+    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
+    nt_real max_corner = big ? NT_REAL_MAX : R(1.5);
+    int order[BIG_CANDS];
+    for (int i = 0; i < nc; i++) order[i] = i;
+    for (int i = 1; i < nc; i++)
+        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
+            int t = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = t;
+        }
+    nt_real best_len = NT_REAL_MAX;
+    int found = 0;
+    for (int k = 0; k < nc; k++) {
+        const cand *c = &cs[order[k]];
+        if (c->depth < floor_len) continue;
+        nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
+        if (big ? big_free(map, q, shape, h) : is_free(map, q, shape, h)) {
+            set_single(out, c);
+            best_len = c->depth;
+            found = 1;
+            break;
+        }
+    }
+    for (int i = 0; i < nc; i++)
+        for (int j = i + 1; j < nc; j++) {
+            nt_vec2 d;
+            if (!corner(&cs[i], &cs[j], &d)) continue;
+            nt_real len = nt__len(d);
+            if (len >= best_len || len > max_corner || len < floor_len) continue;
+            nt_vec2 q = nt__add(p, d);
+            if (big ? big_free(map, q, shape, h) : is_free(map, q, shape, h)) {
+                set_pair(out, d, &cs[i], &cs[j]);
+                best_len = len;
+                found = 1;
+            }
+        }
+    return found;
 }
 
 /* Best push from the candidates at p: shortest single or corner that frees the
@@ -372,44 +466,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
      * is_free, leaving it slightly inside, so it is not taken. */
     if (lb < 0) lb = depth_at(map, p, shape, h);
     *lower = lb;
-    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
-    /* Singles, shortest first. */
-    int order[MAX_CANDS];
-    for (int i = 0; i < nc; i++) order[i] = i;
-    for (int i = 1; i < nc; i++)
-        for (int j = i; j > 0 && cs[order[j]].depth < cs[order[j - 1]].depth; j--) {
-            int t = order[j];
-            order[j] = order[j - 1];
-            order[j - 1] = t;
-        }
-    nt_real best_len = NT_REAL_MAX;
-    int found = 0;
-    for (int k = 0; k < nc; k++) {
-        const cand *c = &cs[order[k]];
-        if (c->depth < floor_len) continue;
-        nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
-        if (is_free(map, q, shape, h)) {
-            set_single(out, c);
-            best_len = c->depth;
-            found = 1;
-            break;
-        }
-    }
-    /* Corners: may be shorter than a freeing single (which can be a long way round). */
-    for (int i = 0; i < nc; i++)
-        for (int j = i + 1; j < nc; j++) {
-            nt_vec2 d;
-            if (!corner(&cs[i], &cs[j], &d)) continue;
-            nt_real len = nt__len(d);
-            if (len >= best_len || len > R(1.5) || len < floor_len) continue;
-            if (is_free(map, nt__add(p, d), shape, h)) {
-                set_pair(out, d, &cs[i], &cs[j]);
-                best_len = len;
-                found = 1;
-            }
-        }
-    return found;
+    return shortest_freeing(map, p, shape, h, cs, nc, lb, 0, out);
 }
 
 /* ---- exact enumeration ----
@@ -693,6 +750,402 @@ static nt_vec2 escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
     return d;
 }
 
+/* ------------------------------------------------------------------------------
+ * Large objects: half-size above half a cell, up to NT_MAX_HALF_CELLS (a box of
+ * half 4 covers up to 9 x 9 cells). The same plan as above, sized for it: the
+ * candidates are merged by normal (a box on a floor overlaps nine tiles that all
+ * push up; only the deepest push along a normal can free the object, since a
+ * shorter one leaves that tile overlapped), so the certificate and the corners stay
+ * cheap; enumeration keeps only the curves within reach, once each, and none from
+ * a seam face (such a face lies inside the neighbour's region, off the union's
+ * boundary); freeness tests stop at the first overlapping tile. Costs, in
+ * instructions: a 4 x 0.5 box on a floor ~3.4 k (the certificate), a 4 x 4 box
+ * in a floor-wall corner ~27 k (enumeration), an r 4 circle 1.5 cells into that
+ * corner ~330 k, 9 cells deep in round tiles ~60 M. Small objects never come
+ * here: their path above is unchanged, bit for bit.
+ * ------------------------------------------------------------------------------ */
+
+enum { BIG_SIDE = 12, BIG_FEATS = 128, BIG_POINTS = 256 };
+
+/* What the overlapped tiles say at p. */
+typedef struct big_gather {
+    cand cs[BIG_CANDS];  /* one per distinct normal: the deepest push along it */
+    int nc, dropped;     /* dropped: distinct normals beyond BIG_CANDS */
+    int overlapped, pushes, all_convex;
+    nt_real lb;          /* deepest unmasked single-tile depth, -1 when a masked tile overlaps */
+    int r4[4];           /* the cell range */
+    uint8_t hit[BIG_SIDE * BIG_SIDE]; /* overlapped, relative to r4 (when it fits) */
+    int fits;
+} big_gather;
+
+static void big_collect(const probe *o, nt_vec2 p, big_gather *g)
+{
+    cell_range(p, o->h, &g->r4[0], &g->r4[1], &g->r4[2], &g->r4[3]);
+    const int x0 = g->r4[0], y0 = g->r4[1], x1 = g->r4[2], y1 = g->r4[3];
+    g->nc = g->dropped = g->overlapped = g->pushes = 0;
+    g->all_convex = 1;
+    g->lb = 0;
+    g->fits = x1 - x0 < BIG_SIDE && y1 - y0 < BIG_SIDE;
+    if (g->fits) memset(g->hit, 0, sizeof g->hit);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt__cell cell = nt__map_cell(o->map, x, y);
+            int t = cell.tile;
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, o->shape, o->h, cell.seams, &m);
+            if (r == NT__SEPARATE) continue;
+            g->overlapped++;
+            if (g->fits) g->hit[(y - y0) * BIG_SIDE + (x - x0)] = 1;
+            if (cell.seams) g->lb = -1;
+            else if (r == NT__PUSH && g->lb >= 0 && m.depth > g->lb) g->lb = m.depth;
+            if (nt__tiles[t].cls == NT_CLASS_CONCAVE) g->all_convex = 0;
+            if (r != NT__PUSH) continue;
+            g->pushes++;
+            int i = 0;
+            while (i < g->nc && (g->cs[i].nx != m.normal.x || g->cs[i].ny != m.normal.y)) i++;
+            if (i == g->nc) {
+                if (g->nc == BIG_CANDS) {
+                    g->dropped++;
+                    continue;
+                }
+                g->nc++;
+                g->cs[i].depth = -1;
+            }
+            if (m.depth > g->cs[i].depth) {
+                cand *c = &g->cs[i];
+                c->nx = m.normal.x;
+                c->ny = m.normal.y;
+                c->depth = m.depth;
+                c->cx = x;
+                c->cy = y;
+            }
+        }
+}
+
+/* Certificate: every overlapped tile is convex (or it is the only one) and pushes
+ * along the same normal: the deepest push clears them all; it is the answer when
+ * no other tile overlaps at the new place. */
+static int big_certificate(const probe *o, nt_vec2 p, const big_gather *g, nt_resolution *out)
+{
+    if (g->nc != 1 || g->dropped || g->pushes != g->overlapped || !(g->all_convex || g->overlapped == 1)) return 0;
+    const cand *c = &g->cs[0];
+    nt_vec2 q = nt_v2(p.x + c->nx * c->depth, p.y + c->ny * c->depth);
+    int c0, d0, c1, d1;
+    cell_range(q, o->h, &c0, &d0, &c1, &d1);
+    nt_real tol = free_tolerance(q);
+    const int x0 = g->r4[0], y0 = g->r4[1], x1 = g->r4[2], y1 = g->r4[3];
+    for (int y = d0; y <= d1; y++)
+        for (int x = c0; x <= c1; x++) {
+            /* An overlapped convex tile was pushed along its own normal by at least its depth. */
+            if (g->all_convex && g->fits && x >= x0 && x <= x1 && y >= y0 && y <= y1 &&
+                g->hit[(y - y0) * BIG_SIDE + (x - x0)])
+                continue;
+            int t = nt__map_tile(o->map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            if (tile_test(t, q.x - (nt_real)x, q.y - (nt_real)y, o->shape, o->h, 0, &m) == NT__PUSH && m.depth > tol)
+                return 0;
+        }
+    set_single(out, c);
+    return 1;
+}
+
+/* The features of the tiles within reach, each once: BIG_FEATS on the stack, more
+ * (deep in a mass of tiles) from the allocator. */
+typedef struct big_feats {
+    feat *f, *heap;
+    int n, cap;
+    feat own[BIG_FEATS];
+} big_feats;
+
+/* Room for one more feature; 0 when the allocator fails. */
+static int big_room(big_feats *all)
+{
+    if (all->n < all->cap) return 1;
+    feat *g = (feat *)nt__alloc((size_t)all->cap * 2 * sizeof *g);
+    if (!g) return 0;
+    memcpy(g, all->f, (size_t)all->n * sizeof *g);
+    nt__free(all->heap);
+    all->f = all->heap = g;
+    all->cap *= 2;
+    return 1;
+}
+
+/* The cell side a feature's line lies on, or -1. */
+static int line_side(const feat *f, int X, int Y, nt_vec2 off)
+{
+    nt_real fx = (nt_real)X, fy = (nt_real)Y;
+    if (f->circle) return -1;
+    if (f->nx == -1 && f->e == -(fx - off.x)) return NT_SIDE_LEFT;
+    if (f->nx == 1 && f->e == fx + 1 + off.x) return NT_SIDE_RIGHT;
+    if (f->ny == -1 && f->e == -(fy - off.y)) return NT_SIDE_TOP;
+    if (f->ny == 1 && f->e == fy + 1 + off.y) return NT_SIDE_BOTTOM;
+    return -1;
+}
+
+static int same_feat(const feat *a, const feat *b)
+{
+    return a->circle == b->circle && a->sign == b->sign && a->nx == b->nx && a->ny == b->ny && a->e == b->e &&
+           a->qx == b->qx && a->qy == b->qy && a->rad == b->rad;
+}
+
+/* Returns 0 when the allocator fails (the caller then looks less far). */
+/* A circle's vertex curve is needed only where the union has a corner. A vertex
+ * whose two faces on this tile are both seams is no corner of the union: the
+ * tiles across them fill it in, and if the union still has a corner there, the
+ * tile owning the face along it lists the same vertex (a seam face lies inside the
+ * union, so no face along the union's boundary is one). */
+static int vertex_hidden(int t, int vi, unsigned seams)
+{
+    const nt__tile_geom *g = &nt__geom[t];
+    nt_vec2 v = nt__tiles[t].vertices[vi];
+    int adjacent = 0, hidden = 0;
+    for (int i = 0; i < g->edge_count; i++) {
+        const nt__edge *e = &g->edges[i];
+        int at_start = e->ax == v.x && e->ay == v.y;
+        int at_end = e->ax + e->tx * e->len == v.x && e->ay + e->ty * e->len == v.y;
+        if (!at_start && !at_end) continue;
+        adjacent++;
+        hidden += e->side >= 0 && ((seams >> e->side) & 1u);
+    }
+    return adjacent == 2 && hidden == 2;
+}
+
+static int big_features(const probe *o, nt_vec2 c, nt_real reach, big_feats *all)
+{
+    const nt_shape shape = o->shape;
+    const nt_vec2 h = o->h;
+    all->n = 0;
+    int x0 = nt__floor_int(c.x - h.x - reach), x1 = nt__floor_int(c.x + h.x + reach);
+    int y0 = nt__floor_int(c.y - h.y - reach), y1 = nt__floor_int(c.y + h.y + reach);
+    /* Box features offset the cell's sides by the half-size; a circle's lines by r. */
+    nt_vec2 off = shape.type == NT_SHAPE_CIRCLE ? nt_v2(h.x, h.x) : h;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt__cell cell = nt__map_cell(o->map, x, y);
+            if (cell.tile == NT_TILE_EMPTY) continue;
+            feats one; /* a tile has at most 9 curves */
+            one.n = 0;
+            tile_features(&one, cell.tile, x, y, shape, h);
+            /* tile_features lists a circle's edges, then its vertices. */
+            int v0 = shape.type == NT_SHAPE_CIRCLE ? nt__geom[cell.tile].edge_count : one.n;
+            int v1 = shape.type == NT_SHAPE_CIRCLE ? v0 + nt__tiles[cell.tile].vertex_count : one.n;
+            for (int i = 0; i < one.n; i++) {
+                const feat *f = &one.f[i];
+                if (feat_distance(f, c) >= reach) continue;
+                int side = line_side(f, x, y, off);
+                if (side >= 0 && (cell.seams >> side) & 1u) continue;
+                if (i >= v0 && i < v1 && cell.seams && vertex_hidden(cell.tile, i - v0, cell.seams)) continue;
+                int k = 0;
+                while (k < all->n && !same_feat(&all->f[k], f)) k++;
+                if (k < all->n) continue;
+                if (!big_room(all)) return 0;
+                all->f[all->n++] = *f;
+            }
+        }
+    return 1;
+}
+
+/* Crossing points waiting for their freeness test, nearest first. */
+typedef struct big_point {
+    nt_real d;
+    nt_vec2 p;
+    int a, b; /* feature indices; b = -1 for a foot */
+    int seq;  /* order of listing, for ties */
+} big_point;
+
+typedef struct big_search {
+    const probe *o;
+    nt_vec2 c;             /* the object's centre */
+    const big_feats *all;  /* the curves the points lie on */
+    nt_resolution *out;    /* the nearest free point, when found */
+    big_point pt[BIG_POINTS];
+    int n;
+    nt_real best; /* distance of the nearest free point found */
+    int found, seq;
+} big_search;
+
+/* Heap order of the waiting points: nearer first, then the one listed first. */
+static int point_before(const big_point *a, const big_point *b)
+{
+    return a->d < b->d || (a->d == b->d && a->seq < b->seq);
+}
+
+static void sift_down(big_point *pt, int n, int i)
+{
+    for (;;) {
+        int l = 2 * i + 1, m = i;
+        if (l < n && point_before(&pt[l], &pt[m])) m = l;
+        if (l + 1 < n && point_before(&pt[l + 1], &pt[m])) m = l + 1;
+        if (m == i) return;
+        big_point t = pt[i];
+        pt[i] = pt[m];
+        pt[m] = t;
+        i = m;
+    }
+}
+
+/* Test the waiting points nearest first (a heap: deep inside a mass of tiles
+ * hundreds wait and many are not free); the first free one beats the rest. */
+static void big_flush(big_search *s)
+{
+    int n = s->n;
+    for (int i = n / 2 - 1; i >= 0; i--) sift_down(s->pt, n, i);
+    while (n > 0 && s->pt[0].d < s->best) {
+        const big_point *q = &s->pt[0];
+        if (probe_free(s->o, q->p)) {
+            s->best = q->d;
+            s->found = 1;
+            set_from_feats(s->out, s->c, q->p, &s->all->f[q->a], q->b >= 0 ? &s->all->f[q->b] : NULL);
+            break;
+        }
+        s->pt[0] = s->pt[--n];
+        sift_down(s->pt, n, 0);
+    }
+    s->n = 0;
+}
+
+static void big_point_add(big_search *s, nt_vec2 p, int a, int b)
+{
+    nt_real d = nt__len(nt__sub(p, s->c));
+    if (!(d < s->best)) return;
+    if (s->n == BIG_POINTS) big_flush(s);
+    if (!(d < s->best)) return;
+    big_point *q = &s->pt[s->n++];
+    q->seq = s->seq++;
+    q->d = d;
+    q->p = p;
+    q->a = a;
+    q->b = b;
+}
+
+/* Nearest free point within reach of c (cf. enumerate): the feet first, which bound
+ * the crossings worth looking at. */
+static int big_enumerate(const probe *o, nt_vec2 c, nt_real reach, nt_resolution *out)
+{
+    big_feats all;
+    all.f = all.own;
+    all.heap = NULL;
+    all.cap = BIG_FEATS;
+    /* Out of memory: look less far (exact within the smaller reach). */
+    while (!big_features(o, c, reach, &all)) reach *= R(0.5);
+    big_search s;
+    s.o = o;
+    s.c = c;
+    s.all = &all;
+    s.out = out;
+    s.n = 0;
+    s.best = reach;
+    s.found = s.seq = 0;
+    for (int i = 0; i < all.n; i++) {
+        nt_vec2 p;
+        if (foot(&all.f[i], c, &p)) big_point_add(&s, p, i, -1);
+    }
+    big_flush(&s);
+    for (int i = 0; i < all.n; i++) {
+        if (feat_distance(&all.f[i], c) >= s.best) continue;
+        for (int j = i + 1; j < all.n; j++) {
+            if (feat_distance(&all.f[j], c) >= s.best) continue;
+            nt_vec2 pts[2];
+            int k = cross(&all.f[i], &all.f[j], pts);
+            for (int m = 0; m < k; m++) big_point_add(&s, pts[m], i, j);
+        }
+    }
+    big_flush(&s);
+    nt__free(all.heap);
+    return s.found;
+}
+
+/* One axis of the map: the centre clamped so that the object lies inside (the
+ * middle when the map is narrower than the object). */
+static nt_real clamp_in(nt_real v, nt_real half, int side)
+{
+    nt_real lo = half, hi = (nt_real)side - half;
+    return lo > hi ? R(0.5) * (nt_real)side : nt__clamp(v, lo, hi);
+}
+
+/* Last resort (cf. escape), sized for the object: centres that put it in the middle
+ * or at a quarter of a cell, or flush with a cell's side. Returns 0 when none of
+ * them within 32 cells is free (no room that way for the object). */
+static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
+{
+    const nt_map *map = o->map;
+    const nt_vec2 h = o->h;
+    nt_vec2 q = nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h));
+    *d = nt__sub(q, p);
+    if (probe_free(o, q)) return 1;
+    int cx = (int)nt__clamp(nt__floor(q.x), 0, (nt_real)(map->w - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), 0, (nt_real)(map->h - 1));
+    const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
+    const nt_real oy[6] = {R(0.5), h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, R(0.25), R(0.75)};
+    nt_real best = NT_REAL_MAX;
+    for (int ring = 0; ring < 32; ring++) {
+        if ((nt_real)ring - 1 > best) break; /* no centre of this ring can be nearer */
+        for (int y = cy - ring; y <= cy + ring; y++)
+            for (int x = cx - ring; x <= cx + ring; x++) {
+                if (x != cx - ring && x != cx + ring && y != cy - ring && y != cy + ring) continue;
+                for (int i = 0; i < 36; i++) {
+                    nt_vec2 c = nt_v2((nt_real)x + ox[i % 6], (nt_real)y + oy[i / 6]);
+                    nt_real dist = nt__len(nt__sub(c, p));
+                    if (dist < best && probe_free(o, c)) {
+                        best = dist;
+                        *d = nt__sub(c, p);
+                    }
+                }
+            }
+    }
+    return best < NT_REAL_MAX;
+}
+
+/* nt_map_resolve for a large object, in cell units (p, h); res is zeroed. */
+NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
+{
+    const probe obj = {map, shape, h}, *o = &obj;
+    const nt_real far_x = R(1.5) + h.x, far_y = R(1.5) + h.y;
+    nt_vec2 d;
+    if (p.x < -far_x || p.y < -far_y || p.x > (nt_real)map->w + far_x || p.y > (nt_real)map->h + far_y) {
+        /* Far inside the border: come back into the map first. */
+        if (!big_escape(o, p, &d)) d = nt__sub(nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h)), p);
+    } else {
+        big_gather g;
+        big_collect(o, p, &g);
+        if (g.overlapped == 0) return false;
+        if (big_certificate(o, p, &g, res)) return true;
+        nt_real lb = g.lb >= 0 ? g.lb : depth_at(map, p, shape, h);
+        int found = shortest_freeing(map, p, shape, h, g.cs, g.nc, lb, 1, res);
+        /* Optimal when no longer than the deepest single-tile overlap; otherwise the
+         * curves within the candidate's length are enumerated. Without a candidate,
+         * the reach starts two cells past the object's size and doubles until the
+         * whole map is in it: deep inside a mass of tiles, the answer is still the
+         * shortest way out, at a cost that grows with the depth. */
+        nt_real len = found ? nt__len(res->push) : 2 * nt__max(h.x, h.y) + 2;
+        nt_real all = (nt_real)map->w + (nt_real)map->h + 4 * nt__max(h.x, h.y) + 4;
+        if (!found || len > lb * R(1.000001) + R(1e-6))
+            for (;;) {
+                nt_resolution e;
+                memset(&e, 0, sizeof e);
+                if (big_enumerate(o, p, len, &e)) {
+                    *res = e;
+                    found = 1;
+                }
+                if (found || len > all) break;
+                len *= 2;
+            }
+        if (found) return true;
+        /* No room for the object within the map: the nearest centre found, or none. */
+        if (!big_escape(o, p, &d)) d = nt_v2(0, 0);
+    }
+    nt_real l = nt__len(d);
+    res->push = d;
+    res->contact_count = 1;
+    res->contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+    res->contacts[0].depth = l;
+    res->contacts[0].cell_x = nt__floor_int(p.x);
+    res->contacts[0].cell_y = nt__floor_int(p.y);
+    return true;
+}
+
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
     nt_resolution res;
@@ -700,12 +1153,20 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     if (out) *out = res;
     NT_ASSERT(map != NULL);
     if (!map) return false;
-    NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(0.5) &&
-              shape.half.y <= map->cell * R(0.5));
+    NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(NT_MAX_HALF_CELLS) &&
+              shape.half.y <= map->cell * R(NT_MAX_HALF_CELLS));
     nt_real ic = map->inv_cell, cell = map->cell;
     nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
     if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
+    if (h.x > R(0.5) || h.y > R(0.5)) {
+        if (!resolve_big(map, p, shape, h, &res)) return false;
+        /* Back to world units. */
+        res.push = nt__scale(res.push, cell);
+        for (int i = 0; i < res.contact_count; i++) res.contacts[i].depth *= cell;
+        if (out) *out = res;
+        return true;
+    }
 
     cand cs[MAX_CANDS];
     int nc, all_convex, present;

@@ -414,7 +414,8 @@ static inline void cand_vertex(cands *q, nt_real x, nt_real y, nt_real vx, nt_re
  * vertex circles' outsides inside each vertex's normal cone (cusp (0,0): y <= 0;
  * cusp (1,1): x >= 1; corner (0,1): x <= 0 and y >= 1). A vertex candidate whose
  * nearest circle point falls outside its cone is dominated by a neighbouring piece,
- * whose end point it would be. */
+ * whose end point it would be. These pieces hold for r <= 1/2 only (the callers send
+ * larger circles to circle_concave_large below). */
 static int circle_concave_general(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     canon k = to_canon(tile, c, mask);
@@ -452,11 +453,140 @@ static int circle_concave_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
     return pick(&q, k.fx, k.fy, out);
 }
 
+/* ---------- circle vs CONCAVE, radius above half a cell ----------
+ * The pieces above assume a small circle: the hollow's disc of radius 1 - r is
+ * empty once r >= 1, and a vertex's cone is no longer free of the other features
+ * (a circle of radius 2 at (2.5, 0) is in the cusp (0,0)'s cone, 2.5 from it, yet
+ * overlaps the corner (1,1)). So the free set F = {dist(c, T) >= r} is searched
+ * directly: its nearest point lies on one of the offset curves of T's features
+ * (the faces' lines x = -r, y = 1 + r; circles of radius r around the vertices
+ * (0,0), (1,1), (0,1); the hollow's circle of radius 1 - r while r < 1; and the
+ * cell's far sides x = 1 + r, y = -r, which bound F too), at the foot of c on one
+ * or where two cross. Every such point is checked against the exact distance to T;
+ * the nearest free one is the way out. A masked face drops its line and the
+ * vertices next to it, as in the general routine. */
+static nt_real concave_dist(nt_real x, nt_real y)
+{
+    if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && (x - 1) * (x - 1) + y * y >= 1) return 0;
+    nt_real ly = nt__clamp(y, 0, 1), bx = nt__clamp(x, 0, 1);
+    nt_real g2 = nt__min(x * x + (y - ly) * (y - ly), (x - bx) * (x - bx) + (y - 1) * (y - 1));
+    nt_real g = nt__sqrt(g2);
+    if (x <= 1 && y >= 0) g = nt__min(g, nt__fabs(nt__sqrt((x - 1) * (x - 1) + y * y) - 1));
+    return g;
+}
+
+nt_real nt__concave_gap(int tile, nt_vec2 c)
+{
+    canon k = to_canon(tile, c, 0);
+    return concave_dist(k.x, k.y);
+}
+
+typedef struct curve {
+    int circle;
+    nt_real a, b, c; /* line: a*x + b*y = c (unit normal); circle: centre (a, b), radius c */
+} curve;
+
+/* Feet and crossings of the offset curves: the nearest point of F. */
+typedef struct near_free {
+    nt_real x, y, r, tol; /* the centre, the radius, the freeness tolerance */
+    nt_real best, px, py; /* the shortest freeing move so far */
+} near_free;
+
+/* A candidate given by its displacement from the centre (feet keep their exact
+ * direction that way; a point far from the origin would lose it). */
+static void try_move(near_free *nf, nt_real dx, nt_real dy)
+{
+    nt_real d2 = dx * dx + dy * dy;
+    if (!(d2 < nf->best * nf->best) || d2 <= 0) return;
+    if (concave_dist(nf->x + dx, nf->y + dy) < nf->r - nf->tol) return;
+    nt_real d = nt__sqrt(d2);
+    if (d >= nf->best) return;
+    nf->best = d;
+    nf->px = dx;
+    nf->py = dy;
+}
+
+static void try_point(near_free *nf, nt_real qx, nt_real qy) { try_move(nf, qx - nf->x, qy - nf->y); }
+
+static void curve_foot(near_free *nf, const curve *u)
+{
+    if (!u->circle) {
+        nt_real s = u->a * nf->x + u->b * nf->y - u->c;
+        try_move(nf, -s * u->a, -s * u->b);
+        return;
+    }
+    nt_real dx = nf->x - u->a, dy = nf->y - u->b;
+    nt_real d = nt__sqrt(dx * dx + dy * dy);
+    if (d > 0) try_move(nf, dx / d * (u->c - d), dy / d * (u->c - d));
+}
+
+static void curve_cross(near_free *nf, const curve *u, const curve *v)
+{
+    if (u->circle && !v->circle) {
+        const curve *t = u;
+        u = v;
+        v = t;
+    }
+    if (!u->circle && !v->circle) {
+        nt_real det = u->a * v->b - u->b * v->a;
+        if (det == 0) return;
+        try_point(nf, (u->c * v->b - v->c * u->b) / det, (u->a * v->c - v->a * u->c) / det);
+        return;
+    }
+    if (!u->circle) { /* line u, circle v */
+        nt_real s = u->a * v->a + u->b * v->b - u->c;
+        if (nt__fabs(s) > v->c) return;
+        nt_real fx = v->a - s * u->a, fy = v->b - s * u->b;
+        nt_real hc = nt__sqrt(nt__max(0, v->c * v->c - s * s));
+        try_point(nf, fx - u->b * hc, fy + u->a * hc);
+        try_point(nf, fx + u->b * hc, fy - u->a * hc);
+        return;
+    }
+    nt_real dx = v->a - u->a, dy = v->b - u->b;
+    nt_real d2 = dx * dx + dy * dy, d = nt__sqrt(d2);
+    if (d <= 0 || d > u->c + v->c || d < nt__fabs(u->c - v->c)) return;
+    nt_real k = (u->c * u->c - v->c * v->c + d2) / (2 * d);
+    nt_real hh = nt__sqrt(nt__max(0, u->c * u->c - k * k));
+    nt_real bx = u->a + dx * k / d, by = u->b + dy * k / d;
+    try_point(nf, bx - dy * hh / d, by + dx * hh / d);
+    try_point(nf, bx + dy * hh / d, by - dx * hh / d);
+}
+
+NT__NOINLINE static int circle_concave_large(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
+    canon k = to_canon(tile, c, mask);
+    /* Free within the tolerance that the candidates below are held to: a touching
+     * centre a rounding error inside is its own foot, a move of length 0. */
+    nt_real tol = R(4) * NT_REAL_EPS * (2 + r);
+    if (concave_dist(k.x, k.y) >= r - tol) return NT__SEPARATE;
+    curve cv[8];
+    int n = 0;
+    cv[n++] = (curve){0, 0, -1, r};     /* y = -r */
+    cv[n++] = (curve){0, 1, 0, 1 + r};  /* x = 1 + r */
+    if (!k.mleft) {
+        cv[n++] = (curve){0, 1, 0, -r};  /* x = -r */
+        cv[n++] = (curve){1, 0, 0, r};   /* cusp (0,0) */
+    }
+    if (!k.mbottom) {
+        cv[n++] = (curve){0, 0, 1, 1 + r}; /* y = 1 + r */
+        cv[n++] = (curve){1, 1, 1, r};     /* cusp (1,1) */
+    }
+    if (!k.mleft && !k.mbottom) cv[n++] = (curve){1, 0, 1, r}; /* corner (0,1) */
+    if (r < 1) cv[n++] = (curve){1, 1, 0, 1 - r};                 /* the hollow */
+    near_free nf = {k.x, k.y, r, tol, NT_REAL_MAX, 0, 0};
+    for (int i = 0; i < n; i++) curve_foot(&nf, &cv[i]);
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) curve_cross(&nf, &cv[i], &cv[j]);
+    if (nf.best == NT_REAL_MAX) return NT__MASKED;
+    return push_out(nf.best, nf.px / nf.best, nf.py / nf.best, k.fx, k.fy, out);
+}
+
 /* The unmasked case away from the vertices' cones (y <= 0, x >= 1, and x <= 0
  * with y >= 1) in one pass: there the free set is the four half-planes and the
  * disc, so the smallest candidate is the way out and none positive means free. */
 NT__SCALAR static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
+    if (r > R(0.5)) return circle_concave_large(tile, c, r, mask, out);
     canon k = to_canon(tile, c, 0);
     nt_real x = k.x, y = k.y;
     if (mask | (y <= 0) | (x >= 1) | ((x <= 0) & (y >= 1))) return circle_concave_general(tile, c, r, mask, out);

@@ -1019,6 +1019,43 @@ nt_status nt_body_get_tile_contacts(const nt_world *w, nt_body_id id, nt_body_ti
     return NT_OK;
 }
 
+/* Add contact c to the list of body i when it touches (see nt_body_get_contacts). */
+static void list_contact(const nt_world *w, const nt__contact *c, int32_t i, nt_body_contact *out, int capacity, int *n)
+{
+    if (!(c->flags & NT__CF_TOUCH) || (c->flags & (NT__CF_SENSOR | NT__CF_GONE)) || !nt__contact_is_live(w, c)) return;
+    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
+    if (a != i && b != i) return;
+    nt_body_contact e;
+    e.other = make_id(w, a == i ? b : a);
+    e.normal = a == i ? nt_v2(-c->n.x, -c->n.y) : c->n; /* c->n points from a to b */
+    e.depth = c->depth;
+    /* Keep the first `capacity` by the other body's slot (contacts come sorted by
+     * (a, b), not by the other): insert, dropping the last when full. */
+    int k = *n < capacity ? *n : capacity;
+    (*n)++;
+    if (k == capacity && (k == 0 || out[k - 1].other.index1 < e.other.index1)) return;
+    if (k == capacity) k--;
+    for (; k > 0 && out[k - 1].other.index1 > e.other.index1; k--) out[k] = out[k - 1];
+    out[k] = e;
+}
+
+nt_status nt_body_get_contacts(const nt_world *w, nt_body_id id, nt_body_contact *out, int capacity, int *count)
+{
+    if (count) *count = 0;
+    if (!count || capacity < 0 || (capacity > 0 && !out)) return NT_ERR_INVALID_ARGUMENT;
+    const nt__body *b = get_body(w, id);
+    if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
+    int32_t i = id.index1 - 1, n = 0;
+    for (int k = 0; k < w->con_count; k++) list_contact(w, &w->con[k], i, out, capacity, &n);
+    for (int32_t k = w->cold[i].park_head; k >= 0;) {
+        const nt__contact *c = &w->parked[k];
+        list_contact(w, c, i, out, capacity, &n);
+        k = w->park_link[k].next[(int32_t)(c->key >> 32) == i ? 0 : 1];
+    }
+    *count = n;
+    return NT_OK;
+}
+
 /* ---------------------------------------------------------------- events */
 
 nt_contact_events nt_world_get_contact_events(const nt_world *w)

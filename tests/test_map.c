@@ -33,11 +33,13 @@ static int tile_of(char c)
     case 'o': return NT_TILE_CONVEXpn;
     case 'B': return NT_TILE_22DEGpnB;
     case 'S': return NT_TILE_22DEGpnS;
+    case 'b': return NT_TILE_22DEGnnB;
+    case 's': return NT_TILE_22DEGnnS;
     default: return -1;
     }
 }
 
-static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
+static nt_map *empty_map(int w, int h, nt_real cell)
 {
     nt_map_def d = nt_default_map_def();
     d.width = w;
@@ -45,6 +47,12 @@ static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
     d.cell_size = cell;
     nt_map *m = NULL;
     assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    return m;
+}
+
+static nt_map *make_map(int w, int h, nt_real cell, const char *const *rows)
+{
+    nt_map *m = empty_map(w, h, cell);
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             int t = tile_of(rows[y][x]);
@@ -428,12 +436,7 @@ static void test_resolve_vs_union_reference(void **state)
     int n = 0, not_freed = 0, checked_free = 0;
     int tiles[W * H];
     uint8_t t8[W * H];
-    nt_map_def d = nt_default_map_def();
-    d.width = W;
-    d.height = H;
-    d.cell_size = 1;
-    nt_map *m;
-    assert_int_equal(nt_map_create(&d, &m), NT_OK);
+    nt_map *m = empty_map(W, H, 1);
     for (int attempt = 0; n < TRIALS && attempt < 20 * TRIALS; attempt++) {
         for (int i = 0; i < W * H; i++) {
             double u = urand();
@@ -489,6 +492,238 @@ static void test_resolve_vs_union_reference(void **state)
     free(rel);
 }
 
+/* ---- large objects (issue 18: half-sizes up to NT_MAX_HALF_CELLS) ---- */
+
+/* Engine tolerance on a push length: float rounds positions of a few cells at ~1e-6. */
+static const double BIG_TOL = NT_REAL_IS_DOUBLE ? 1e-9 : 2e-5;
+
+/* The map's tiles as ints for the reference. */
+static void map_ints(const nt_map *m, int *tiles)
+{
+    int w = nt_map_width(m), h = nt_map_height(m);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) tiles[y * w + x] = nt_map_get_tile(m, x, y);
+}
+
+/* One placement (cell size 1) against the reference: the push frees the object (the
+ * reference's overlap test, object shrunk by `tol`) and is as short as the reference's
+ * (within tol). Returns 1 when checked, 0 when skipped (free, or no room at all); a
+ * failure is printed and counted. *len_out receives the reference length. */
+static int big_check(const nt_map *m, const int *tiles, ref_shape rs, double x, double y, double tol, int *bad,
+                     double *len_out, nt_resolution *res_out)
+{
+    int w = nt_map_width(m), h = nt_map_height(m);
+    double rdx, rdy;
+    double rlen = ref_mtv_map(tiles, w, h, rs, x, y, &rdx, &rdy);
+    if (len_out) *len_out = rlen;
+    if (rlen <= 0) return 0;
+    nt_shape sh = rs.is_circle ? nt_shape_circle((nt_real)rs.hw) : nt_shape_aabb((nt_real)rs.hw, (nt_real)rs.hh);
+    nt_resolution r;
+    bool hit = nt_map_resolve(m, nt_v2((nt_real)x, (nt_real)y), sh, &r);
+    if (res_out) *res_out = r;
+    double len = sqrt((double)r.push.x * r.push.x + (double)r.push.y * r.push.y);
+    double qx = x + (double)r.push.x, qy = y + (double)r.push.y;
+    const char *why = NULL;
+    if (!hit) why = "no push";
+    else if (ref_object_overlaps_map(tiles, w, h, ref_shape_grow(rs, -tol), qx, qy)) why = "not freed";
+    else if (len > rlen + tol) why = "longer than the shortest push";
+    else if (len < rlen - tol) why = "shorter than the reference (freed within tolerance only)";
+    else if (r.contact_count < 1 || r.contact_count > 2) why = "no contact";
+    else
+        for (int i = 0; i < r.contact_count && !why; i++)
+            if (fabs(hypot((double)r.contacts[i].normal.x, (double)r.contacts[i].normal.y) - 1) > 1e-4)
+                why = "a contact normal is not unit length";
+    if (why) {
+        if ((*bad)++ < 10)
+            print_error("%s: %s %.17g x %.17g at (%.17g, %.17g): push (%.9g, %.9g) len %.9g, reference (%.9g, %.9g) len %.9g\n",
+                        why, rs.is_circle ? "circle" : "box", rs.hw, rs.hh, x, y, (double)r.push.x, (double)r.push.y,
+                        len, rdx, rdy, rlen);
+    }
+    return 1;
+}
+
+/* Random 12 x 12 maps (most cells EMPTY, the rest any tile, slopes and round tiles
+ * included), objects of half-size 0.5..4 (boxes also thin one way), random centres:
+ * the push is the reference's shortest way out of the union, and frees the object. */
+static void test_resolve_large_vs_union_reference(void **state)
+{
+    (void)state;
+    enum { W = 12, H = 12, TRIALS = 700 };
+    int tiles[W * H], n = 0, bad = 0, deep = 0;
+    uint8_t t8[W * H];
+    nt_map *m = empty_map(W, H, 1);
+    ref_rng rng = ref_rng_seed(1818);
+    for (int attempt = 0; n < TRIALS && attempt < 40 * TRIALS; attempt++) {
+        if (attempt % 10 == 0) {
+            double empty = ref_rng_uniform(&rng, 0.55, 0.85);
+            for (int i = 0; i < W * H; i++) {
+                tiles[i] = ref_rng_uniform(&rng, 0, 1) < empty ? 0 : 1 + ref_rng_int(&rng, 33);
+                t8[i] = (uint8_t)tiles[i];
+            }
+            assert_int_equal(nt_map_set_tiles(m, t8, W * H), NT_OK);
+        }
+        int circle = ref_rng_int(&rng, 2);
+        double a = (double)(nt_real)ref_rng_uniform(&rng, 0.5, NT_MAX_HALF_CELLS);
+        double b = (double)(nt_real)ref_rng_uniform(&rng, 0.5, NT_MAX_HALF_CELLS);
+        if (!circle && ref_rng_int(&rng, 3) == 0) b = (double)(nt_real)ref_rng_uniform(&rng, 0.05, 0.5);
+        if (!circle && ref_rng_int(&rng, 2)) {
+            double t = a;
+            a = b;
+            b = t;
+        }
+        ref_shape rs = circle ? ref_circle(a) : ref_aabb(a, b);
+        double x = (double)(nt_real)ref_rng_uniform(&rng, rs.hw, W - rs.hw);
+        double y = (double)(nt_real)ref_rng_uniform(&rng, rs.hh, H - rs.hh);
+        double rlen;
+        if (!ref_object_overlaps_map(tiles, W, H, rs, x, y)) continue;
+        n += big_check(m, tiles, rs, x, y, BIG_TOL, &bad, &rlen, NULL);
+        deep += rlen > 1;
+    }
+    print_message("large resolve vs union reference: %d placements (%d deeper than a cell), %d failures\n", n, deep,
+                  bad);
+    assert_true(n >= TRIALS / 2);
+    assert_int_equal(bad, 0);
+    nt_map_destroy(m);
+}
+
+/* Rest height of the object at x (cell size 1): the largest y at which it is free,
+ * from the reference alone (bisection from a free height above). */
+static double rest_y(const int *tiles, int w, int h, ref_shape rs, double x, double y_free)
+{
+    double lo = y_free, hi = h + 1.0;
+    for (int it = 0; it < 60; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (ref_object_overlaps_map(tiles, w, h, rs, x, mid)) hi = mid;
+        else lo = mid;
+    }
+    return lo;
+}
+
+/* A long box (half 4 x 0.5, and others) sunk skin-deep at many x along a 30-tile FULL
+ * floor, in cells of 1 and 24 units: straight up by the skin, whatever the seams under it. */
+static void test_resolve_large_long_floor(void **state)
+{
+    (void)state;
+    const nt_real cells[2] = {1, 24};
+    const double halves[3][2] = {{4, 0.5}, {3.3, 1.7}, {NT_MAX_HALF_CELLS, NT_MAX_HALF_CELLS}};
+    int checked = 0;
+    for (int ci = 0; ci < 2; ci++) {
+        nt_real cs = cells[ci];
+        nt_map *m = empty_map(34, 10, cs);
+        for (int x = 2; x < 32; x++) assert_int_equal(nt_map_set_tile(m, x, 9, NT_TILE_FULL), NT_OK);
+        for (int k = 0; k < 4; k++)
+            for (int i = 0; i <= 300; i++) {
+                int circle = k == 3;
+                double hw = circle ? 2.5 : halves[k][0], hh = circle ? 2.5 : halves[k][1];
+                nt_shape sh = circle ? nt_shape_circle((nt_real)hw * cs) : nt_shape_aabb((nt_real)hw * cs, (nt_real)hh * cs);
+                double x = 2 + hw + (30 - 2 * hw) * i / 300.0; /* lands on seams too */
+                if (circle) x = 2.5 + 29 * i / 300.0;          /* circles also past the floor's ends */
+                double skin = 1e-3 + 0.2 * ((i * 7) % 13) / 12.0;
+                nt_vec2 p = nt_v2((nt_real)(x * cs), (nt_real)((9 - hh + skin) * cs));
+                double want = (double)(9 * cs) - ((double)p.y + (double)sh.half.y); /* the sink of the rounded position */
+                nt_resolution r;
+                assert_true(nt_map_resolve(m, p, sh, &r));
+                int ends = circle && (x < 2 || x > 32);
+                if (!ends && (fabs((double)r.push.x) > BIG_TOL * cs || fabs((double)r.push.y - want) > 4 * BIG_TOL * cs)) {
+                    print_error("cell %g, %s %g x %g at x %.6f skin %g: push (%.9g, %.9g), expected (0, %.9g)\n", (double)cs,
+                                circle ? "circle" : "box", hw, hh, x, skin, (double)r.push.x, (double)r.push.y, want);
+                    fail();
+                }
+                checked++;
+            }
+        nt_map_destroy(m);
+    }
+    assert_int_equal(checked, 2 * 4 * 301);
+}
+
+/* Long objects along a floor of flats joined by 45 and 22 degree slopes (both ways),
+ * sunk skin-deep below their rest height at many x: the push is the reference's
+ * shortest, frees the object, and goes along a surface normal of the floor (up, or a
+ * slope's normal), never sideways or up the slope by a seam. */
+static void test_resolve_large_slope_joins(void **state)
+{
+    (void)state;
+    const char *rows[] = {
+        "..................................", "..................................", "..................................",
+        "..................................", "..................................", "..................................",
+        "..................................", "..................................", "..................................",
+        "....../######\\.....sb######BS.....", "##################################", "##################################",
+    };
+    enum { W = 34, H = 12 };
+    nt_map *m = make_map(W, H, 1, rows);
+    int tiles[W * H];
+    map_ints(m, tiles);
+    const double s45 = sqrt(0.5), s22 = 1 / sqrt(5.0);
+    const double normals[5][2] = {{0, -1}, {s45, -s45}, {-s45, -s45}, {s22, -2 * s22}, {-s22, -2 * s22}};
+    const double shapes[4][3] = {{0, 4, 0.5}, {0, 2.5, 1.5}, {0, 0.75, 0.6}, {1, 3, 3}};
+    int n = 0, bad = 0, off_normal = 0;
+    for (int k = 0; k < 4; k++)
+        for (int i = 0; i <= 400; i++) {
+            ref_shape rs = shapes[k][0] > 0 ? ref_circle(shapes[k][1]) : ref_aabb(shapes[k][1], shapes[k][2]);
+            double x = (double)(nt_real)(rs.hw + (W - 2 * rs.hw) * i / 400.0);
+            double skin = 1e-3 + 0.05 * ((i * 5) % 11) / 10.0;
+            double y = (double)(nt_real)(rest_y(tiles, W, H, rs, x, rs.hh) + skin);
+            nt_resolution r;
+            double rlen;
+            if (!big_check(m, tiles, rs, x, y, BIG_TOL, &bad, &rlen, &r)) continue;
+            n++;
+            double len = sqrt((double)r.push.x * r.push.x + (double)r.push.y * r.push.y), best = 2;
+            for (int j = 0; j < 5; j++)
+                best = fmin(best, hypot((double)r.push.x / len - normals[j][0], (double)r.push.y / len - normals[j][1]));
+            /* A push between two normals is a corner of the floor (two contacts) or a
+             * convex vertex of the floor (the reference's way too), not a seam. */
+            double rdx, rdy;
+            ref_mtv_map(tiles, W, H, rs, x, y, &rdx, &rdy);
+            double as_ref = hypot((double)r.push.x - rdx, (double)r.push.y - rdy); /* float: rounding of ~20 */
+            if (best > 1e-4 && r.contact_count < 2 && as_ref > 5 * BIG_TOL) {
+                if (off_normal++ < 10)
+                    print_error("%s %g x %g at (%.6f, %.6f): push (%.9g, %.9g) is no surface normal (reference (%.9g, %.9g))\n",
+                                rs.is_circle ? "circle" : "box", rs.hw, rs.hh, x, y, (double)r.push.x, (double)r.push.y,
+                                rdx, rdy);
+            }
+        }
+    print_message("large objects on slope joins: %d placements, %d failures, %d pushes off the normals\n", n, bad,
+                  off_normal);
+    assert_true(n > 1400);
+    assert_int_equal(bad, 0);
+    assert_int_equal(off_normal, 0);
+    nt_map_destroy(m);
+}
+
+/* Large objects with their centre deep in the border (outside the map, FULL) or
+ * in a map too small for them: freed when the map has room (the reference's
+ * overlap test), a zero push when it has none. */
+static void test_resolve_large_far_outside(void **state)
+{
+    (void)state;
+    enum { W = 12, H = 10 };
+    nt_map *m = empty_map(W, H, 1);
+    for (int x = 0; x < W; x++) assert_int_equal(nt_map_set_tile(m, x, H - 1, NT_TILE_FULL), NT_OK);
+    int tiles[W * H];
+    map_ints(m, tiles);
+    const double pos[6][2] = {{-9, 4}, {20, 3}, {5, -12}, {6, 30}, {-7, -7}, {25, 25}};
+    for (int k = 0; k < 6; k++)
+        for (int circle = 0; circle < 2; circle++) {
+            ref_shape rs = circle ? ref_circle(3.5) : ref_aabb(NT_MAX_HALF_CELLS, 2.25);
+            nt_shape sh = circle ? nt_shape_circle(R(3.5)) : nt_shape_aabb(R(NT_MAX_HALF_CELLS), R(2.25));
+            nt_resolution r;
+            assert_true(nt_map_resolve(m, nt_v2((nt_real)pos[k][0], (nt_real)pos[k][1]), sh, &r));
+            double qx = pos[k][0] + (double)r.push.x, qy = pos[k][1] + (double)r.push.y;
+            if (ref_object_overlaps_map(tiles, W, H, ref_shape_grow(rs, -BIG_TOL), qx, qy)) {
+                print_error("%s from (%g, %g): push (%g, %g) does not free it\n", circle ? "circle" : "box", pos[k][0],
+                            pos[k][1], (double)r.push.x, (double)r.push.y);
+                fail();
+            }
+        }
+    nt_map_destroy(m);
+    /* No room: a 4 x 4 map is narrower than the box. */
+    nt_map *small = empty_map(4, 4, 1);
+    nt_resolution r;
+    assert_true(nt_map_resolve(small, nt_v2(2, 2), nt_shape_aabb(R(3), R(3)), &r));
+    assert_true(r.push.x == 0 && r.push.y == 0 && r.contact_count == 1);
+    nt_map_destroy(small);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -503,6 +738,10 @@ int main(void)
         cmocka_unit_test(test_resolve_concave_corner),
         cmocka_unit_test(test_resolve_free_and_border),
         cmocka_unit_test(test_resolve_vs_union_reference),
+        cmocka_unit_test(test_resolve_large_long_floor),
+        cmocka_unit_test(test_resolve_large_slope_joins),
+        cmocka_unit_test(test_resolve_large_vs_union_reference),
+        cmocka_unit_test(test_resolve_large_far_outside),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -110,7 +110,20 @@ static int check_placement(const char *label, int tile, ref_shape s, double cx, 
 
 /* --------------------------------------------------- (a) random placements */
 
-static void run_random(int circle, int per_tile, unsigned long long seed)
+/* Bodies up to NT_MAX_HALF_CELLS (issue 18): half-sizes 0.5..4 cells, boxes also thin
+ * one way (0.02..0.3 against up to 4, e.g. a 0.1 x 4 plank), centres anywhere the object
+ * can reach the tile. */
+static ref_shape large_shape(ref_rng *rng, int circle)
+{
+    double a = rr(ref_rng_uniform(rng, 0.5, NT_MAX_HALF_CELLS)), b = rr(ref_rng_uniform(rng, 0.5, NT_MAX_HALF_CELLS));
+    if (circle) return ref_circle(a);
+    int thin = ref_rng_int(rng, 3);
+    if (thin == 1) b = rr(ref_rng_uniform(rng, 0.02, 0.3));
+    if (thin == 2) return ref_aabb(rr(ref_rng_uniform(rng, 0.02, 0.3)), b);
+    return ref_aabb(a, b);
+}
+
+static void run_random(int circle, int large, int per_tile, unsigned long long seed)
 {
     int failures = 0, overlaps = 0, checked = 0;
     g_api_mismatch = 0;
@@ -119,11 +132,20 @@ static void run_random(int circle, int per_tile, unsigned long long seed)
         ref_rng rng = ref_rng_seed(seed * 1000 + (unsigned long long)tile);
         int tile_overlaps = 0;
         for (int i = 0; i < per_tile; i++) {
-            ref_shape s = circle ? ref_circle(rr(ref_rng_uniform(&rng, 0.02, 0.5)))
-                                 : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
-            if (i % 20 == 0) s = circle ? ref_circle(0) : ref_aabb(0, 0); /* a point */
-            double cx = rr(ref_rng_uniform(&rng, -0.6, 1.6)), cy = rr(ref_rng_uniform(&rng, -0.6, 1.6));
-            int r = check_placement("", tile, s, cx, cy, &failures);
+            ref_shape s;
+            double cx, cy;
+            if (large) {
+                s = large_shape(&rng, circle);
+                cx = rr(ref_rng_uniform(&rng, -0.3 - s.hw, 1.3 + s.hw));
+                cy = rr(ref_rng_uniform(&rng, -0.3 - s.hh, 1.3 + s.hh));
+            } else {
+                s = circle ? ref_circle(rr(ref_rng_uniform(&rng, 0.02, 0.5)))
+                           : ref_aabb(rr(ref_rng_uniform(&rng, 0.02, 0.5)), rr(ref_rng_uniform(&rng, 0.02, 0.5)));
+                if (i % 20 == 0) s = circle ? ref_circle(0) : ref_aabb(0, 0); /* a point */
+                cx = rr(ref_rng_uniform(&rng, -0.6, 1.6));
+                cy = rr(ref_rng_uniform(&rng, -0.6, 1.6));
+            }
+            int r = check_placement(large ? "large: " : "", tile, s, cx, cy, &failures);
             checked += r >= 0;
             overlaps += r > 0;
             tile_overlaps += r > 0;
@@ -131,8 +153,8 @@ static void run_random(int circle, int per_tile, unsigned long long seed)
         /* Enough overlapping placements per tile for the depth checks to mean something. */
         if (tile_overlaps < per_tile / 8) fail_msg("%s: only %d overlaps", ref_tile_name(tile), tile_overlaps);
     }
-    print_message("%s: %d placements checked, %d overlapping, %d failures, largest depth error %.3g\n",
-                  circle ? "circle" : "box", checked, overlaps, failures, g_max_err);
+    print_message("%s%s: %d placements checked, %d overlapping, %d failures, largest depth error %.3g\n",
+                  large ? "large " : "", circle ? "circle" : "box", checked, overlaps, failures, g_max_err);
     assert_int_equal(g_api_mismatch, 0);
     assert_int_equal(failures, 0);
 }
@@ -140,13 +162,56 @@ static void run_random(int circle, int per_tile, unsigned long long seed)
 static void test_random_box(void **state)
 {
     (void)state;
-    run_random(0, 2000, 11);
+    run_random(0, 0, 2000, 11);
 }
 
 static void test_random_circle(void **state)
 {
     (void)state;
-    run_random(1, 2000, 12);
+    run_random(1, 0, 2000, 12);
+}
+
+static void test_random_large_box(void **state)
+{
+    (void)state;
+    run_random(0, 1, 1500, 31);
+}
+
+static void test_random_large_circle(void **state)
+{
+    (void)state;
+    run_random(1, 1, 1500, 32);
+}
+
+/* Large objects with their surface near the tile's: the box's corner (or the circle's
+ * rim) within 1e-2 of a tile vertex, where the routines decide between pieces. */
+static void test_large_near_vertices(void **state)
+{
+    (void)state;
+    int failures = 0, overlaps = 0;
+    ref_rng rng = ref_rng_seed(4343);
+    for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
+        for (int i = 0; i < 600; i++) {
+            int circle = i & 1;
+            ref_shape s = large_shape(&rng, circle);
+            double vx = ref_rng_int(&rng, 3) / 2.0, vy = ref_rng_int(&rng, 3) / 2.0;
+            double scale = pow(10, -ref_rng_uniform(&rng, 2, 6));
+            double ex = scale * ref_rng_uniform(&rng, -1, 1), ey = scale * ref_rng_uniform(&rng, -1, 1);
+            double cx, cy;
+            if (circle) { /* the rim through the vertex, from any direction */
+                double a = ref_rng_uniform(&rng, 0, 2 * 3.14159265358979323846);
+                cx = rr(vx + s.hw * cos(a) + ex);
+                cy = rr(vy + s.hw * sin(a) + ey);
+            } else {
+                cx = rr(vx + ex + (ref_rng_int(&rng, 2) ? s.hw : -s.hw));
+                cy = rr(vy + ey + (ref_rng_int(&rng, 2) ? s.hh : -s.hh));
+            }
+            overlaps += check_placement("large near vertex: ", tile, s, cx, cy, &failures) > 0;
+        }
+    }
+    print_message("large near vertices: %d overlaps, %d failures\n", overlaps, failures);
+    assert_true(overlaps > 4000);
+    assert_int_equal(failures, 0);
 }
 
 /* Small objects near the boundary: sizes 0.001..0.05 and centres on a thin band around
@@ -201,18 +266,25 @@ static void test_near_vertices(void **state)
  * sizes that make exact contacts. The reference is exact on these inputs (its box test
  * uses only products of grid values by 0.5 or 1; circles meet slopes only at vertices).
  * Exact contacts must not count as overlaps; everything else as in the random runs. */
-static void test_grid_placements(void **state)
+static void run_grid(int large)
 {
-    (void)state;
     int failures = 0, contacts = 0, contact_failures = 0, overlaps = 0, per_tile[NT_TILE_COUNT] = {0};
     char buf[96];
-    ref_rng rng = ref_rng_seed(2024);
+    ref_rng rng = ref_rng_seed(large ? 2025 : 2024);
     for (int tile = 1; tile < NT_TILE_COUNT; tile++) {
         for (int i = 0; i < 1500; i++) {
             int circle = i & 1;
-            double a = (1 + ref_rng_int(&rng, 8)) / 16.0, b = (1 + ref_rng_int(&rng, 8)) / 16.0;
+            /* Sizes in sixteenths: 1..8 (up to half a cell), or 8..64 (up to NT_MAX_HALF_CELLS)
+             * with one side of a box sometimes thin; centres over the reach of the object. */
+            int a16 = 1 + ref_rng_int(&rng, 8), b16 = 1 + ref_rng_int(&rng, 8);
+            if (large) {
+                a16 = 8 + ref_rng_int(&rng, 16 * NT_MAX_HALF_CELLS - 7);
+                b16 = ref_rng_int(&rng, 3) ? 8 + ref_rng_int(&rng, 16 * NT_MAX_HALF_CELLS - 7) : 1 + ref_rng_int(&rng, 4);
+            }
+            double a = a16 / 16.0, b = b16 / 16.0;
             ref_shape s = circle ? ref_circle(a) : ref_aabb(a, b);
-            double cx = (ref_rng_int(&rng, 33) - 8) / 16.0, cy = (ref_rng_int(&rng, 33) - 8) / 16.0;
+            int ex = 8 + (large ? a16 : 0), ey = 8 + (large ? (circle ? a16 : b16) : 0);
+            double cx = (ref_rng_int(&rng, 17 + 2 * ex) - ex) / 16.0, cy = (ref_rng_int(&rng, 17 + 2 * ey) - ey) / 16.0;
             bool exact = ref_object_overlaps_tile(tile, s, cx, cy);
             bool lo = ref_object_overlaps_tile(tile, ref_shape_grow(s, -TOUCH_SKIP), cx, cy);
             bool hi = ref_object_overlaps_tile(tile, ref_shape_grow(s, TOUCH_SKIP), cx, cy);
@@ -243,12 +315,24 @@ static void test_grid_placements(void **state)
                               (double)m.normal.x, (double)m.normal.y, exact, want_d);
         }
     }
-    print_message("grid: %d overlaps, %d exact contacts (%d reported as overlaps), %d failures\n", overlaps, contacts,
-                  contact_failures, failures);
+    print_message("grid%s: %d overlaps, %d exact contacts (%d reported as overlaps), %d failures\n", large ? " (large)" : "",
+                  overlaps, contacts, contact_failures, failures);
     for (int t = 0; t < NT_TILE_COUNT; t++)
         if (per_tile[t]) print_message("grid: %s: %d exact contacts reported as overlaps\n", ref_tile_name(t), per_tile[t]);
     assert_true(contacts > 1000 && overlaps > 10000);
     assert_int_equal(failures, 0);
+}
+
+static void test_grid_placements(void **state)
+{
+    (void)state;
+    run_grid(0);
+}
+
+static void test_grid_placements_large(void **state)
+{
+    (void)state;
+    run_grid(1);
 }
 
 static void test_empty_and_invalid_tiles(void **state)
@@ -688,6 +772,33 @@ static void test_reference_crosscheck(void **state)
             }
         }
     }
+    /* Large objects (half-sizes 0.5..4) near the tile, where the way out is shorter
+     * than the sampler's 2.5 reach. */
+    int large_n = 0;
+    for (int tile = 1; tile < NT_TILE_COUNT; tile += 2) {
+        for (int tries = 0, done = 0; tries < 400 && done < 2; tries++) {
+            ref_shape s = large_shape(&rng, tries & 1);
+            double cx = ref_rng_uniform(&rng, -0.3 - s.hw, 1.3 + s.hw), cy = ref_rng_uniform(&rng, -0.3 - s.hh, 1.3 + s.hh);
+            if (!ref_object_overlaps_tile(tile, s, cx, cy)) continue;
+            double dx, dy;
+            double a = ref_mtv_tile(tile, s, cx, cy, &dx, &dy);
+            if (a > 2) continue;
+            done++;
+            large_n++;
+            double b = ref_mtv_tile_sampled(tile, s, cx, cy, 360, NULL, NULL);
+            int ok = !ref_object_overlaps_tile(tile, s, cx + dx, cy + dy);
+            for (int j = 0; j < 64 && !ok; j++) {
+                double an = j * (2 * 3.14159265358979323846 / 64);
+                ok = !ref_object_overlaps_tile(tile, s, cx + dx + 1e-7 * cos(an), cy + dy + 1e-7 * sin(an));
+            }
+            if (!(fabs(a - b) < 1e-7) || !ok) {
+                print_message("reference (large) %s, %s at (%.17g, %.17g): candidates %.12g (witness %d), sampling %.12g\n",
+                              ref_tile_name(tile), shape_str(s, buf, sizeof buf), cx, cy, a, ok, b);
+                bad++;
+            }
+        }
+    }
+    assert_true(large_n >= 25);
     /* Maps of 3x3 random tiles inside the FULL border. Sampling can miss small pockets
      * of room (its scan steps over them), so it must never find anything closer, the
      * reference's answer must be a real free position, and most answers must agree. */
@@ -717,7 +828,30 @@ static void test_reference_crosscheck(void **state)
         }
         agree += fabs(a - b) < 1e-7;
     }
-    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling)\n", n, maps, agree);
+    /* Large objects (half-size 0.5..2) in 6 x 6 maps, mostly EMPTY: the same checks. */
+    int big_maps = 0, big_agree = 0;
+    for (int i = 0; i < 120 && big_maps < 16; i++) {
+        int tiles[36];
+        for (int k = 0; k < 36; k++) tiles[k] = ref_rng_int(&rng, 3) ? 0 : ref_rng_int(&rng, 34);
+        ref_shape s = i & 1 ? ref_circle(ref_rng_uniform(&rng, 0.5, 2)) : ref_aabb(ref_rng_uniform(&rng, 0.5, 2), ref_rng_uniform(&rng, 0.1, 2));
+        double cx = ref_rng_uniform(&rng, s.hw, 6 - s.hw), cy = ref_rng_uniform(&rng, s.hh, 6 - s.hh);
+        if (!ref_object_overlaps_map(tiles, 6, 6, s, cx, cy)) continue;
+        double dx, dy;
+        double a = ref_mtv_map(tiles, 6, 6, s, cx, cy, &dx, &dy);
+        if (a < 0 || a > 1.5) continue; /* no room, or beyond what sampling reaches cheaply */
+        big_maps++;
+        double b = ref_mtv_map_sampled(tiles, 6, 6, s, cx, cy, 360, 2.0, NULL, NULL);
+        int witness = free_near(tiles, 6, 6, s, cx + dx, cy + dy, 1e-7) && fabs(hypot(dx, dy) - a) < 1e-12;
+        if (!witness || (b >= 0 && b < a - 1e-9)) {
+            print_message("reference large map #%d, %s at (%.17g, %.17g): candidates %.12g (witness %d), sampling %.12g\n",
+                          i, shape_str(s, buf, sizeof buf), cx, cy, a, witness, b);
+            bad++;
+        }
+        big_agree += fabs(a - b) < 1e-7;
+    }
+    print_message("reference cross-check: %d tile cases, %d map cases (%d agree with sampling), %d large map cases (%d agree)\n",
+                  n, maps, agree, big_maps, big_agree);
+    assert_true(big_maps >= 12 && big_agree >= big_maps - 2);
     assert_true(maps >= 30 && agree >= maps * 8 / 10);
     assert_int_equal(bad, 0);
 }
@@ -732,6 +866,10 @@ int main(void)
         cmocka_unit_test(test_random_circle),
         cmocka_unit_test(test_random_small_near_surface),
         cmocka_unit_test(test_grid_placements),
+        cmocka_unit_test(test_grid_placements_large),
+        cmocka_unit_test(test_random_large_box),
+        cmocka_unit_test(test_random_large_circle),
+        cmocka_unit_test(test_large_near_vertices),
         cmocka_unit_test(test_near_vertices),
         cmocka_unit_test(test_pairs_touching),
         cmocka_unit_test(test_pairs_coincident),

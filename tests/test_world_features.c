@@ -675,6 +675,91 @@ static void test_tile_contact_summary(void **state)
     nt_world_destroy(w);
 }
 
+/* ---------------------------------------------------------------- body contacts */
+
+/* nt_body_get_contacts: a box resting on a static slab, a box on it and a circle
+ * leaning on its side: each body lists exactly the bodies it touches (by brute force
+ * on the shapes, grown by the skin), ordered by slot, with normals pushing it away
+ * from the other; the list survives sleep; capacity, counting and bad input. */
+static void test_body_contact_list(void **state)
+{
+    (void)state;
+    nt_world_def d = nt_default_world_def();
+    d.map.width = 20;
+    d.map.height = 12;
+    d.map.cell_size = 1;
+    d.gravity = nt_v2(0, 10);
+    d.friction_model = NT_FRICTION_COULOMB;
+    d.tile_material.friction = R(0.5);
+    d.tile_material.bounce = 0;
+    d.restitution_threshold = R(0.5);
+    d.sleep_speed = R(0.05);
+    nt_world *w = NULL;
+    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    spec slab = dyn(nt_shape_aabb(3, R(0.5)), 10, 10);
+    slab.type = NT_BODY_STATIC;
+    slab.friction = 0.8;
+    spec lower = dyn(nt_shape_aabb(R(0.4), R(0.4)), 10, R(9.1));
+    lower.friction = 0.8;
+    spec upper = dyn(nt_shape_aabb(R(0.3), R(0.3)), R(10.05), R(8.4));
+    upper.friction = 0.8;
+    spec ball = dyn(nt_shape_circle(R(0.25)), R(10.65), R(9.25));
+    ball.friction = 0.8;
+    nt_body_id ids[4] = {add(w, slab), add(w, lower), add(w, upper), add(w, ball)};
+    const spec *specs[4] = {&slab, &lower, &upper, &ball};
+    for (int k = 0; k < 120; k++) assert_int_equal(nt_world_step(w, DT), NT_OK);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < 4; i++) {
+            nt_body_contact got[4];
+            int n = -1;
+            assert_int_equal(nt_body_get_contacts(w, ids[i], got, 4, &n), NT_OK);
+            int want = 0;
+            for (int j = 0; j < 4; j++) {
+                if (j == i) continue;
+                spec a = *specs[i], b = *specs[j];
+                nt_vec2 pa = nt_body_get_position(w, ids[i]), pb = nt_body_get_position(w, ids[j]);
+                a.x = (double)pa.x, a.y = (double)pa.y, b.x = (double)pb.x, b.y = (double)pb.y;
+                if (!overlaps(&a, &b, 1e-3) || (a.type == NT_BODY_STATIC && b.type == NT_BODY_STATIC)) continue;
+                /* Listed, in slot order, with the normal from j towards i. */
+                assert_true(want < n);
+                assert_true(nt_body_id_equals(got[want].other, ids[j]));
+                double dx = a.x - b.x, dy = a.y - b.y, nx = (double)got[want].normal.x, ny = (double)got[want].normal.y;
+                assert_true(fabs(hypot(nx, ny) - 1) < 1e-5);
+                assert_true(nx * dx + ny * dy > 0);
+                assert_true((double)got[want].depth > -1e-3 && (double)got[want].depth < 1e-2);
+                want++;
+            }
+            assert_int_equal(n, want);
+        }
+        /* The lower box has the slab under it (normal up) and the upper box on it (down). */
+        nt_body_contact c[4];
+        int n = 0;
+        assert_int_equal(nt_body_get_contacts(w, ids[1], c, 4, &n), NT_OK);
+        assert_int_equal(n, 3);
+        assert_true(c[0].normal.y < R(-0.99) && c[1].normal.y > R(0.99));
+        /* Asleep, the contacts stay listed. */
+        for (int k = 0; k < 240 && nt_world_get_awake_count(w) > 0; k++) nt_world_step(w, DT);
+        assert_int_equal(nt_world_get_awake_count(w), 0);
+    }
+    /* Capacity: the first ones by slot; a NULL list counts. */
+    nt_body_contact one;
+    int n = 0;
+    assert_int_equal(nt_body_get_contacts(w, ids[1], &one, 1, &n), NT_OK);
+    assert_int_equal(n, 3);
+    assert_true(nt_body_id_equals(one.other, ids[0]));
+    assert_int_equal(nt_body_get_contacts(w, ids[1], NULL, 0, &n), NT_OK);
+    assert_int_equal(n, 3);
+    assert_int_equal(nt_body_get_contacts(w, ids[1], NULL, 2, &n), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_body_get_contacts(w, ids[1], &one, 1, NULL), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_body_get_contacts(w, ids[1], &one, -1, &n), NT_ERR_INVALID_ARGUMENT);
+    nt_body_id bad = ids[3];
+    assert_int_equal(nt_body_destroy(w, bad), NT_OK);
+    assert_int_equal(nt_body_get_contacts(w, bad, &one, 1, &n), NT_ERR_INVALID_ID);
+    assert_int_equal(n, 0);
+    assert_int_equal(nt_body_get_contacts(NULL, ids[1], &one, 1, &n), NT_ERR_INVALID_ARGUMENT);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -689,6 +774,7 @@ int main(void)
         cmocka_unit_test(test_kinematic_carries_riders),
         cmocka_unit_test(test_cell_materials),
         cmocka_unit_test(test_tile_contact_summary),
+        cmocka_unit_test(test_body_contact_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

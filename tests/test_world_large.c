@@ -696,6 +696,28 @@ static void test_large_one_way(void **state)
     }
 }
 
+/* Speculative contacts: a 2 x 2-cell crate fired at 0.8 cell per step at a static
+ * 4 x 1-cell wall and at a resting 1 x 2-cell box is stopped where it meets them, not
+ * found inside them a step later. */
+static void test_large_speculative_contacts(void **state)
+{
+    (void)state;
+    for (int target = 0; target < 2; target++) {
+        nt_world *w = make_world(40, 20, 1, nt_v2(0, 0), NT_FRICTION_COULOMB, false);
+        nt_body_id other = target ? add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.5), 1), nt_v2(30, 10), nt_v2(0, 0), 0)
+                                  : add_body(w, NT_BODY_STATIC, nt_shape_aabb(R(0.5), 2), nt_v2(30, 10), nt_v2(0, 0), 0);
+        nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, 1), nt_v2(10, R(10.3)), nt_v2(R(0.8) / DT, 0), 0);
+        double worst = 0;
+        for (int k = 0; k < 40; k++) {
+            assert_int_equal(nt_world_step(w, DT), NT_OK);
+            worst = fmax(worst, overlap_of(w, crate, other));
+        }
+        print_message("  target %d: worst overlap %.3g cell\n", target, worst);
+        assert_true(worst < 0.05);
+        nt_world_destroy(w);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -708,6 +730,7 @@ int main(void)
         cmocka_unit_test(test_queries_see_large_bodies),
         cmocka_unit_test(test_draw_hash_events_sleep),
         cmocka_unit_test(test_large_one_way),
+        cmocka_unit_test(test_large_speculative_contacts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

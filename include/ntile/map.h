@@ -88,8 +88,11 @@ typedef struct nt_resolution {
 /// Compute the displacement that frees a box or circle (centre `pos`, world units)
 /// from every tile of the map: the shortest way out of the union of the tiles. Seams
 /// between solid tiles never push. Returns false (and a zero result) when the object
-/// overlaps nothing. The shape must be no larger than half a cell (checked by the
-/// callers that accept user input; here it is an assertion).
+/// overlaps nothing. The half-size (or radius) must be at most NT_MAX_HALF_CELLS cells
+/// (checked by the callers that accept user input; here it is an assertion). Objects
+/// up to half a cell take the fast path; larger ones cost more: a long box on a floor
+/// stays cheap (one push for all the tiles under it), a box wedged in a corner or sunk
+/// deep in a mass of tiles searches the boundary curves within reach of its depth.
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out);
 
 /// Largest single-tile penetration depth (world units) of the object at `pos`; 0 when free.

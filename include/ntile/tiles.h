@@ -73,7 +73,8 @@ int nt_tile_from_name(const char *name);
 /// True when the point is strictly inside the tile's solid (unit cell coordinates).
 bool nt_tile_contains_point(int tile, nt_vec2 p);
 
-/// Object shapes. Every object is smaller than a cell and never rotates.
+/// Object shapes. An object never rotates; its half-size (or radius) is at most
+/// NT_MAX_HALF_CELLS cells (map.h).
 typedef enum nt_shape_type { NT_SHAPE_AABB = 0, NT_SHAPE_CIRCLE = 1 } nt_shape_type;
 
 /// An axis-aligned box or a circle, centred on the object's position.
@@ -109,7 +110,9 @@ typedef struct nt_mtv {
 } nt_mtv;
 
 /// Box (centre, half-size, unit cell coordinates) against one tile alone.
-/// Returns true and the exact minimum translation when the interiors overlap.
+/// Returns true and the exact minimum translation when the interiors overlap. Exact for
+/// any half-size up to NT_MAX_HALF_CELLS (map.h) and tested so; larger sizes take the
+/// same routines, untested.
 bool nt_collide_tile_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out);
 
 /// Circle against one tile alone (unit cell coordinates). See nt_collide_tile_aabb.

@@ -349,6 +349,20 @@ typedef struct nt_body_tile_contacts {
 /// The tile contacts of the body after the last step.
 nt_status nt_body_get_tile_contacts(const nt_world *world, nt_body_id id, nt_body_tile_contacts *out);
 
+/// A contact between two bodies, as one of them sees it.
+typedef struct nt_body_contact {
+    nt_body_id other; ///< the other body
+    nt_vec2 normal;   ///< unit normal pushing this body away from the other (y < 0: the other is below)
+    nt_real depth;    ///< overlap when the contact was found (world units; slightly negative within the skin)
+} nt_body_contact;
+
+/// The bodies touching this one after the last step (overlapping, within the skin, or
+/// met this step: those that begin events report; sensor overlaps are not listed), in
+/// the order of the other body's slot. Writes at most `capacity` of them to `out` (NULL
+/// with capacity 0 only counts) and the number there are to *count. A sleeping body
+/// keeps its contacts. Costs a pass over the world's contacts.
+nt_status nt_body_get_contacts(const nt_world *world, nt_body_id id, nt_body_contact *out, int capacity, int *count);
+
 /* ---------------------------------------------------------------- events */
 
 /// Two bodies started to touch: overlap, come closer than the skin, or close the gap

@@ -55,10 +55,20 @@ static double wops_num(wops_in *in, double scale)
 static int wops_finite2(nt_vec2 v) { return isfinite((double)v.x) && isfinite((double)v.y); }
 
 /* Is there an EMPTY cell within 64 cells (Chebyshev) of the cell nearest to p? */
-static int wops_room_near(const nt_world *w, nt_vec2 p, nt_real cell)
+/* Is there room for the body in the map? A body up to half a cell fits in any EMPTY
+ * cell (one within 64 cells of p is asked for); a larger one needs a place inside the
+ * map where its shape overlaps no tile, looked for on a half-cell lattice. */
+static int wops_room_near(const nt_world *w, nt_vec2 p, nt_shape shape, nt_real cell)
 {
     const nt_map *m = nt_world_get_map(w);
     int W = nt_map_width(m), H = nt_map_height(m);
+    if (shape.half.x > cell / 2 || shape.half.y > cell / 2) {
+        double q = (double)cell / 2, hx = (double)shape.half.x, hy = (double)shape.half.y;
+        for (double y = hy; y <= H * (double)cell - hy; y += q)
+            for (double x = hx; x <= W * (double)cell - hx; x += q)
+                if (nt_map_overlap_depth(m, nt_v2((nt_real)x, (nt_real)y), shape) == 0) return 1;
+        return 0;
+    }
     double fx = floor((double)p.x / (double)cell), fy = floor((double)p.y / (double)cell);
     int cx = fx < 0 ? 0 : fx > W - 1 ? W - 1 : (int)fx, cy = fy < 0 ? 0 : fy > H - 1 ? H - 1 : (int)fy;
     for (int y = cy - 64; y <= cy + 64; y++)
@@ -167,7 +177,7 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
                     nt_vec2 p = nt_body_get_position(w, ids[k]);
                     if (nt_body_get_type(w, ids[k]) != NT_BODY_DYNAMIC) continue;
                     if (p.x < 0 || p.y < 0 || (double)p.x > mw || (double)p.y > mh) {
-                        if (wops_room_near(w, p, cell)) {
+                        if (wops_room_near(w, p, nt_body_get_shape(w, ids[k]), cell)) {
                             snprintf(msg, msglen, "op %d: dynamic body %d outside the map at (%g, %g)", op,
                                      ids[k].index1, (double)p.x, (double)p.y);
                             bad = 1;
