@@ -3,13 +3,16 @@
 #include <stdlib.h>
 #include "core.h"
 
+#define CAP_TEXT_(n) #n
+#define CAP_TEXT(n) CAP_TEXT_(n)
+
 const char *nt_status_string(nt_status status)
 {
     switch (status) {
     case NT_OK: return "ok";
     case NT_ERR_INVALID_ARGUMENT: return "invalid argument";
     case NT_ERR_NON_FINITE: return "non-finite number";
-    case NT_ERR_SHAPE_TOO_LARGE: return "shape larger than half a cell";
+    case NT_ERR_SHAPE_TOO_LARGE: return "shape larger than the largest half-size (" CAP_TEXT(NT_MAX_HALF_CELLS) " cells)";
     case NT_ERR_OUT_OF_RANGE: return "out of range";
     case NT_ERR_OUT_OF_MEMORY: return "out of memory";
     case NT_ERR_INVALID_ID: return "invalid or stale id";

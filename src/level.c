@@ -185,14 +185,15 @@ static const char *material_problem(nt_friction_model model, nt_material m)
     return NULL;
 }
 
-/* A shape against the cell size; NULL when valid. */
+/* A shape against the cell size (half-size at most NT_MAX_HALF_CELLS cells); NULL when valid. */
 static const char *shape_problem(const nt_level *lv, nt_shape s)
 {
     if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return "unknown shape type";
     if (!fin2(s.half)) return "non-finite size";
     if (s.half.x <= 0 || s.half.y <= 0) return "size must be > 0";
     if (s.type == NT_SHAPE_CIRCLE && s.half.x != s.half.y) return "a circle needs equal halves";
-    if (s.half.x > lv->cell_size * R(0.5) || s.half.y > lv->cell_size * R(0.5)) return "shape larger than half a cell";
+    nt_real cap = lv->cell_size * NT_MAX_HALF_CELLS;
+    if (s.half.x > cap || s.half.y > cap) return nt_status_string(NT_ERR_SHAPE_TOO_LARGE);
     return NULL;
 }
 
@@ -217,12 +218,35 @@ static int in_reach(const nt_level *lv, nt_vec2 p)
            p.y <= (nt_real)lv->height * lv->cell_size + m;
 }
 
-/* Every instance of a body within reach: the first and the last of its repeat grid. */
+/* The last instance of a body's repeat grid (the first is its position): between
+ * them they hold the grid's extremes on both axes. */
+static nt_vec2 last_instance(const nt_level_body *b)
+{
+    return nt_v2(b->position.x + (nt_real)(b->repeat_x - 1) * b->repeat_step.x,
+                 b->position.y + (nt_real)(b->repeat_y - 1) * b->repeat_step.y);
+}
+
+/* Every instance of a body within reach. */
 static int body_in_reach(const nt_level *lv, const nt_level_body *b)
 {
-    nt_vec2 last = nt_v2(b->position.x + (nt_real)(b->repeat_x - 1) * b->repeat_step.x,
-                         b->position.y + (nt_real)(b->repeat_y - 1) * b->repeat_step.y);
-    return in_reach(lv, b->position) && in_reach(lv, last);
+    return in_reach(lv, b->position) && in_reach(lv, last_instance(b));
+}
+
+/* A shape at p wholly inside the map, computed as the world computes it. */
+static int inside_map(const nt_level *lv, nt_vec2 p, nt_vec2 h)
+{
+    return p.x - h.x >= 0 && p.y - h.y >= 0 && p.x + h.x <= (nt_real)lv->width * lv->cell_size &&
+           p.y + h.y <= (nt_real)lv->height * lv->cell_size;
+}
+
+/* A body above half a cell must lie wholly inside the map where the world creates it
+ * (nt_body_create refuses it otherwise): every instance; templates are created where
+ * their spawner says. */
+static int body_fits_map(const nt_level *lv, const nt_level_body *b)
+{
+    nt_real lim = lv->cell_size * R(0.5);
+    if (b->is_template || (b->shape.half.x <= lim && b->shape.half.y <= lim)) return 1;
+    return inside_map(lv, b->position, b->shape.half) && inside_map(lv, last_instance(b), b->shape.half);
 }
 
 static const char *body_problem(const nt_level *lv, const nt_level_body *b)
@@ -245,6 +269,7 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
     if (b->repeat_x < 1 || b->repeat_y < 1 || b->repeat_x > 10000 || b->repeat_y > 10000) return "repeat outside 1..10000";
     if (b->is_template && (b->repeat_x > 1 || b->repeat_y > 1)) return "a template cannot repeat";
     if (!body_in_reach(lv, b)) return "position more than 64 cells outside the map";
+    if (!body_fits_map(lv, b)) return "a body larger than half a cell must lie inside the map";
     return NULL;
 }
 
@@ -908,9 +933,10 @@ static nt_status size_at(parser *P, int i, const char *what, nt_real *out)
     char q[NT__QUOTE_MAX];
     nt_status s = positive_at(P, i, what, out);
     if (s != NT_OK) return s;
-    if (*out > P->lv->cell_size * R(0.5))
-        return nt__fail_col(t, t->f[i].col, "%s '%s' is larger than half a cell (%g)", what, nt__quote(q, t->f[i].s, t->f[i].n),
-                            (double)(P->lv->cell_size * R(0.5)));
+    nt_real cap = P->lv->cell_size * NT_MAX_HALF_CELLS;
+    if (*out > cap)
+        return nt__fail_col(t, t->f[i].col, "%s '%s' is larger than the largest half-size, %d cells (%g)", what,
+                            nt__quote(q, t->f[i].s, t->f[i].n), NT_MAX_HALF_CELLS, (double)cap);
     return NT_OK;
 }
 
@@ -1038,6 +1064,13 @@ static nt_status parse_body(parser *P)
                             (double)b.position.y, NT_WORLD_REACH_CELLS);
     if (!body_in_reach(lv, &b))
         return nt__fail_col(t, repeat_col, "the repeat grid reaches more than %d cells outside the map", NT_WORLD_REACH_CELLS);
+    if (!inside_map(lv, b.position, b.shape.half) && !body_fits_map(lv, &b))
+        return nt__fail_col(t, t->f[at + 1].col,
+                            "a body larger than half a cell must lie inside the map (0 0 .. %g %g): at %g %g it reaches outside",
+                            (double)((nt_real)lv->width * lv->cell_size), (double)((nt_real)lv->height * lv->cell_size),
+                            (double)b.position.x, (double)b.position.y);
+    if (!body_fits_map(lv, &b))
+        return nt__fail_col(t, repeat_col, "the repeat grid takes a body larger than half a cell outside the map");
     long long add = instances_of(&b);
     if (P->instances + add > NT_LEVEL_MAX_BODIES)
         return nt__fail_col(t, t->f[1].col, "too many bodies: more than %d in the level", NT_LEVEL_MAX_BODIES);

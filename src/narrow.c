@@ -181,6 +181,11 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
          * no corner of the union, and its push would be a sideways bump. Push off the
          * other face's line instead (as far as the corner's push, or further). */
         int v_open = sl > 0 ? open_l : open_r, h_open = st > 0 ? open_t : open_b;
+        /* Only when the circle reaches the corner at all. (Up to half a cell the push
+         * of a circle clear of the corner is one its neighbour gives anyway, and
+         * recorded replays keep it.) */
+        nt_real cx = c.x - px, cy = c.y - py;
+        if (r > R(0.5) && cx * cx + cy * cy >= r * r) return NT__SEPARATE;
         if (!v_open && !h_open) return NT__MASKED;
         if (!v_open) return push_out(r - nt__max(st, sb), 0, st > 0 ? R(-1) : R(1), 0, 0, out);
         if (!h_open) return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);

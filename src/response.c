@@ -338,12 +338,8 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
  * that cell or the one next to it: a comparison finds which, where a floor would cost
  * a conversion each. Out of line: most bodies in the air are answered by the 3 x 3
  * test before it. */
-NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h, int cx, int cy)
+static inline int cells_empty(const nt_map *m, int x0, int y0, int x1, int y1)
 {
-    nt_real ic = w->inv_cell;
-    int x0 = cx - ((p.x - h.x) * ic < (nt_real)cx), x1 = cx + ((p.x + h.x) * ic >= (nt_real)(cx + 1));
-    int y0 = cy - ((p.y - h.y) * ic < (nt_real)cy), y1 = cy + ((p.y + h.y) * ic >= (nt_real)(cy + 1));
-    const nt_map *m = w->map;
     if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
     for (int y = y0; y <= y1; y++) {
         const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;
@@ -351,6 +347,14 @@ NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h, int 
             if (row[x].tile != NT_TILE_EMPTY) return 0;
     }
     return 1;
+}
+
+NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h, int cx, int cy)
+{
+    nt_real ic = w->inv_cell;
+    int x0 = cx - ((p.x - h.x) * ic < (nt_real)cx), x1 = cx + ((p.x + h.x) * ic >= (nt_real)(cx + 1));
+    int y0 = cy - ((p.y - h.y) * ic < (nt_real)cy), y1 = cy + ((p.y + h.y) * ic >= (nt_real)(cy + 1));
+    return cells_empty(w->map, x0, y0, x1, y1);
 }
 
 /* True when every cell the box can touch is an EMPTY cell of the map: nothing to
@@ -371,14 +375,7 @@ NT__NOINLINE static int open_box(const nt_world *w, nt_vec2 p, nt_vec2 h)
     nt_real ic = w->inv_cell;
     int x0 = nt__ifloor((p.x - h.x) * ic), x1 = nt__ifloor((p.x + h.x) * ic);
     int y0 = nt__ifloor((p.y - h.y) * ic), y1 = nt__ifloor((p.y + h.y) * ic);
-    const nt_map *m = w->map;
-    if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
-    for (int y = y0; y <= y1; y++) {
-        const nt__cell *row = m->cells + (size_t)y * (size_t)m->w;
-        for (int x = x0; x <= x1; x++)
-            if (row[x].tile != NT_TILE_EMPTY) return 0;
-    }
-    return 1;
+    return cells_empty(w->map, x0, y0, x1, y1);
 }
 
 /* The tile resolution of a body that is not in open air (see resolve_body). */

@@ -43,19 +43,20 @@ static nt_vec2 ppos(const nt_game *g) { return nt_body_get_position(nt_game_get_
 static nt_vec2 pvel(const nt_game *g) { return nt_body_get_velocity(nt_game_get_world(g), nt_game_get_player(g)); }
 
 /* A room 16 x 10 cells of 24 with a floor at row 9 (top y = 216) and walls. */
-static const char room[] = "ntile-level 1\nsize 16 10\n"
-                           "tiles\n"
-                           "|################|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|#..............#|\n"
-                           "|################|\n"
-                           "player 192 200\n";
+#define ROOM_TILES \
+    "ntile-level 1\nsize 16 10\n" \
+    "tiles\n" \
+    "|################|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|#..............#|\n" \
+    "|################|\n"
+static const char room[] = ROOM_TILES "player 192 200\n";
 
 /* ---------------------------------------------------------------- random source */
 
@@ -744,13 +745,72 @@ static void test_runner_hashes_and_divergence(void **state)
     nt_level_destroy(lv);
 }
 
+/* Bodies larger than a cell (issue 18): a 1 x 2-cell crate falls to the floor, the
+ * player rides a 4-cell-wide kinematic platform, and a 4 x 4-cell box added through
+ * the game lands; a body above the cap is refused and changes nothing. */
+static void test_large_bodies(void **state)
+{
+    (void)state;
+    nt_level *lv = level_from(ROOM_TILES "player 250 120\n"
+                              "path slide pingpong speed 20 wait 1 points 250 150 300 150\n"
+                              "body crate dynamic box 12 24 at 60 150\n"
+                              "body platform kinematic box 48 6 at 250 150 path slide material 0.5 0\n");
+    nt_game *g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    nt_body_id crate = nt_game_find_body(g, "crate"), plat = nt_game_find_body(g, "platform");
+    assert_true(nt_body_get_shape(w, crate).half.y == 24);
+    assert_true(nt_body_get_shape(w, plat).half.x == 48);
+    steps(g, 0, 30); /* the platform waits 1 s: the player lands on it */
+    assert_true(nt_game_get_state(g).on_floor);
+    double rel0 = (double)ppos(g).x - (double)nt_body_get_position(w, plat).x;
+    for (int i = 0; i < 60; i++) {
+        steps(g, 0, 1);
+        nt_vec2 pp = nt_body_get_position(w, plat);
+        assert_true(nt_game_get_state(g).on_floor);
+        assert_true(fabs((double)ppos(g).y - ((double)pp.y - 6 - 10)) < 0.5); /* on its top */
+        assert_true(fabs((double)ppos(g).x - (double)pp.x - rel0) < 0.5);      /* riding it */
+    }
+    assert_true((double)nt_body_get_position(w, plat).x > 265); /* it did move */
+    /* The crate stands on the floor (top y = 216): centre 24 above it. */
+    assert_true(fabs((double)nt_body_get_position(w, crate).y - 192) < 0.5);
+
+    /* Added through the game: a 4 x 4-cell box between the crate and the platform; one
+     * above the cap changes nothing. */
+    nt_body_def d = nt_default_body_def();
+    d.shape = nt_shape_aabb(48, 48);
+    d.position = nt_v2(130, 60);
+    nt_body_id big = nt_null_body_id(), id = nt_game_get_player(g);
+    int n0 = nt_game_get_bodies(g, NULL, 0), w0 = nt_world_get_body_count(w);
+    nt_body_def huge = d;
+    huge.shape = nt_shape_circle(R(96.5)); /* above NT_MAX_HALF_CELLS (4) cells of 24 */
+    assert_int_equal(nt_game_add_body(g, &huge, &id), NT_ERR_SHAPE_TOO_LARGE);
+    assert_true(nt_body_id_is_null(id));
+    assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0);
+    assert_int_equal(nt_world_get_body_count(w), w0);
+    assert_int_equal(nt_game_add_body(g, &d, &big), NT_OK);
+    assert_int_equal(nt_game_get_bodies(g, NULL, 0), n0 + 1);
+    steps(g, 0, 80);
+    nt_vec2 bp = nt_body_get_position(w, big);
+    nt_game_destroy(g);
+    g = NULL;
+    assert_true(fabs((double)bp.y - (216 - 48)) < 0.5); /* on the floor */
+    assert_true(bp.x > 100 && bp.x < 160);
+    nt_level_destroy(lv);
+    /* A large body on a path starts where the path puts it: it must fit the map there. */
+    lv = level_from(ROOM_TILES "path out pingpong speed 20 points 30 150 300 150\n"
+                               "body platform kinematic box 48 6 at 250 150 path out\n");
+    assert_int_equal(nt_game_create(lv, NULL, &g), NT_ERR_OUT_OF_RANGE);
+    assert_null(g);
+    nt_level_destroy(lv);
+}
+
 static void test_game_errors(void **state)
 {
     (void)state;
     nt_level *lv = level_from(room);
     nt_game *g = NULL;
     nt_game_def def = nt_default_game_def();
-    def.player.radius = R(0.6); /* larger than half a cell */
+    def.player.radius = R(0.6); /* larger than half a cell: the player stays small (game.h) */
     assert_int_equal(nt_game_create(lv, &def, &g), NT_ERR_INVALID_ARGUMENT);
     assert_null(g);
     def = nt_default_game_def();
@@ -792,6 +852,7 @@ int main(void)
         cmocka_unit_test(test_hash_is_deterministic),
         cmocka_unit_test(test_runner_facts),
         cmocka_unit_test(test_runner_hashes_and_divergence),
+        cmocka_unit_test(test_large_bodies),
         cmocka_unit_test(test_game_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -324,9 +324,18 @@ static void test_body_errors(void **state)
                 "t.ntl:6:8: unknown body type 'flying' (expected static, kinematic or dynamic)");
     parse_fails(HEAD GRID "body b dynamic triangle 1 at 0 0\n",
                 "t.ntl:6:16: unknown shape 'triangle' (expected box or circle)");
-    parse_fails(HEAD GRID "body b dynamic circle 12.5 at 0 0\n",
-                "t.ntl:6:23: radius '12.5' is larger than half a cell (12)");
-    parse_fails(HEAD GRID "body b dynamic box 6 13 at 0 0\n", "t.ntl:6:22: half-height '13' is larger than half a cell (12)");
+    /* Half-sizes up to NT_MAX_HALF_CELLS (4) cells of 24: 96 is the largest. */
+    parse_fails(HEAD GRID "body b dynamic circle 96.001 at 0 0\n",
+                "t.ntl:6:23: radius '96.001' is larger than the largest half-size, 4 cells (96)");
+    parse_fails(HEAD GRID "body b dynamic box 6 97 at 0 0\n",
+                "t.ntl:6:22: half-height '97' is larger than the largest half-size, 4 cells (96)");
+    parse_fails(HEAD GRID "body b static box 1e9 6 at 0 0\n",
+                "t.ntl:6:19: half-width '1e9' is larger than the largest half-size, 4 cells (96)");
+    parse_fails("ntile-level 1\nsize 3 2\ncell 1\n" GRID "body b dynamic circle 4.5 at 0 0\n",
+                "t.ntl:7:23: radius '4.5' is larger than the largest half-size, 4 cells (4)");
+    parse_fails(HEAD GRID "body b dynamic box nan 6 at 0 0\n", "t.ntl:6:20: half-width 'nan' is not a finite number");
+    parse_fails(HEAD GRID "body b dynamic box 6 0 at 0 0\n", "t.ntl:6:22: half-height '0' must be > 0");
+    parse_fails(HEAD GRID "body b dynamic box -48 6 at 0 0\n", "t.ntl:6:20: half-width '-48' must be > 0");
     /* A world refuses bodies more than NT_WORLD_REACH_CELLS (64) cells outside the map. */
     parse_fails(HEAD GRID "body b dynamic circle 5 at -1600 0\n",
                 "t.ntl:6:28: position -1600 0 is more than 64 cells outside the map");
@@ -469,6 +478,78 @@ static void roundtrip_text(const char *text)
     nt_level_destroy(b);
 }
 
+/* Bodies larger than a cell (issue 18): a 1 x 2-cell crate, a 4-cell-wide platform
+ * and a circle 8 cells across (the cap) parse as written and round-trip. */
+static const char large[] = "ntile-level 1\nsize 12 9\n"
+                            "tiles\n|############|\n|#..........#|\n|#..........#|\n|#..........#|\n"
+                            "|#..........#|\n|#..........#|\n|#..........#|\n|#..........#|\n|############|\n"
+                            "body crate dynamic box 12 24 at 60 72\n"
+                            "body platform kinematic box 48 6 at 180 60\n"
+                            "body boulder static circle 96 at 150 108\n"
+                            "body wall static box 96 0.5 at 144 130\n"
+                            "body ghost dynamic box 96 96 at -500 0 template\n";
+
+static void test_large_bodies(void **state)
+{
+    (void)state;
+    nt_level *lv = parse_ok(large);
+    assert_int_equal(lv->body_count, 5);
+    const nt_level_body *b = lv->bodies;
+    assert_int_equal(b[0].shape.type, NT_SHAPE_AABB);
+    assert_true(b[0].shape.half.x == 12 && b[0].shape.half.y == 24); /* 1 x 2 cells */
+    assert_true(b[1].shape.half.x == 48 && b[1].shape.half.y == 6);  /* 4 cells wide */
+    assert_int_equal(b[2].shape.type, NT_SHAPE_CIRCLE);
+    assert_true(b[2].shape.half.x == 96 && b[2].shape.half.y == 96);
+    assert_true(b[3].shape.half.x == (nt_real)NT_MAX_HALF_CELLS * lv->cell_size);
+    assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
+    char *t = write_level(lv);
+    assert_non_null(strstr(t, "\nbody crate dynamic box 12 24 at 60 72\n"));
+    assert_non_null(strstr(t, "\nbody platform kinematic box 48 6 at 180 60\n"));
+    assert_non_null(strstr(t, "\nbody boulder static circle 96 at 150 108\n"));
+    free(t);
+    /* A world takes them as they are (the template is not created). */
+    nt_world *w = NULL;
+    nt_body_id ids[4];
+    assert_int_equal(nt_level_create_world(lv, &w, ids, 4), NT_OK);
+    assert_int_equal(nt_world_get_body_count(w), 4);
+    assert_true(nt_body_get_shape(w, ids[0]).half.y == 24 && nt_body_get_shape(w, ids[2]).half.x == 96);
+    nt_world_destroy(w);
+    nt_level_destroy(lv);
+    roundtrip_text(large);
+    /* The cap scales with the cell size. */
+    lv = parse_ok("ntile-level 1\nsize 8 2\ncell 0.5\ntiles\n|........|\n|........|\nbody b dynamic box 2 0.5 at 2 0.5\n");
+    assert_true(lv->bodies[0].shape.half.x == 2);
+    nt_level_destroy(lv);
+    parse_fails("ntile-level 1\nsize 8 2\ncell 0.5\ntiles\n|........|\n|........|\nbody b dynamic box 2.01 0.5 at 2 0.5\n",
+                "t.ntl:7:20: half-width '2.01' is larger than the largest half-size, 4 cells (2)");
+    /* A body above half a cell lies wholly inside the map (the world's rule), every
+     * instance of a repeat; smaller ones may reach outside as before. The map: 72 x 48. */
+    parse_fails(HEAD GRID "body b dynamic box 13 6 at 12.9 10\n",
+                "t.ntl:6:28: a body larger than half a cell must lie inside the map (0 0 .. 72 48): at 12.9 10 it reaches "
+                "outside");
+    parse_fails(HEAD GRID "body b static circle 24.5 at 36 24\n",
+                "t.ntl:6:30: a body larger than half a cell must lie inside the map (0 0 .. 72 48): at 36 24 it reaches "
+                "outside");
+    parse_fails(HEAD GRID "body b static box 13 6 at 13 6 repeat 3 1 24 0\n",
+                "t.ntl:6:32: the repeat grid takes a body larger than half a cell outside the map");
+    lv = parse_ok(HEAD GRID "body b static box 13 6 at 13 6 repeat 2 2 46 36\nbody c dynamic box 12 12 at -5 -5\n");
+    nt_level_destroy(lv);
+    lv = parse_ok(HEAD GRID);
+    nt_level_body nb = nt_level_default_body(lv);
+    strcpy(nb.name, "big");
+    nb.shape = nt_shape_aabb(36, 24);
+    nb.position = nt_v2(36, 24); /* exactly the map */
+    assert_int_equal(nt_level_add_body(lv, &nb, NULL, NULL), NT_OK);
+    strcpy(nb.name, "out");
+    nb.position = nt_v2(36, R(24.5));
+    nt_text_error e;
+    assert_int_equal(nt_level_add_body(lv, &nb, NULL, &e), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(e.message, "body 'out': a body larger than half a cell must lie inside the map");
+    nb.is_template = true; /* created where its spawner says */
+    assert_int_equal(nt_level_add_body(lv, &nb, NULL, NULL), NT_OK);
+    nt_level_destroy(lv);
+}
+
 static void test_roundtrip_hand_written(void **state)
 {
     (void)state;
@@ -506,6 +587,22 @@ static uint32_t rnd(void)
     return g_rng >> 8;
 }
 static nt_real rreal(double lo, double hi) { return (nt_real)(lo + (hi - lo) * (double)rnd() / 16777216.0); }
+
+/* A body above half a cell lies wholly inside the W x H map: shrunk to fit if need
+ * be, placed at random inside it, not repeated. */
+static void fit_inside(nt_level_body *b, nt_real W, nt_real H)
+{
+    nt_vec2 h = b->shape.half;
+    if (h.x > W / 2) h.x = W / 2;
+    if (h.y > H / 2) h.y = H / 2;
+    if (b->shape.type == NT_SHAPE_CIRCLE) h.x = h.y = h.x < h.y ? h.x : h.y;
+    b->shape.half = h;
+    nt_vec2 p = nt_v2(h.x + rreal(0, 1) * (W - 2 * h.x), h.y + rreal(0, 1) * (H - 2 * h.y));
+    if (p.x - h.x < 0 || p.x + h.x > W) p.x = W / 2; /* rounding: the middle always fits */
+    if (p.y - h.y < 0 || p.y + h.y > H) p.y = H / 2;
+    b->position = p;
+    b->repeat_x = b->repeat_y = 1;
+}
 
 /* Random levels built through the API: write -> parse -> write gives the same text. */
 static void test_roundtrip_random(void **state)
@@ -546,8 +643,8 @@ static void test_roundtrip_random(void **state)
             nt_level_body b = nt_level_default_body(lv);
             snprintf(b.name, sizeof b.name, "b%d.x-%d", i, iter);
             b.type = (nt_body_type)(rnd() % 3);
-            nt_real r = rreal(0.001, 0.5) * lv->cell_size;
-            b.shape = rnd() % 2 ? nt_shape_circle(r) : nt_shape_aabb(r, rreal(0.001, 0.5) * lv->cell_size);
+            nt_real r = rreal(0.001, NT_MAX_HALF_CELLS) * lv->cell_size;
+            b.shape = rnd() % 2 ? nt_shape_circle(r) : nt_shape_aabb(r, rreal(0.001, NT_MAX_HALF_CELLS) * lv->cell_size);
             b.position = nt_v2(rreal(-30, w + 30) * cs, rreal(-30, h + 30) * cs);
             b.velocity = nt_v2(rreal(-10, 10), 0);
             b.mass = rreal(0.01, 9);
@@ -566,6 +663,8 @@ static void test_roundtrip_random(void **state)
                 b.repeat_y = 1 + (int)(rnd() % 4);
                 b.repeat_step = nt_v2(rreal(0, 3) * cs, rreal(-3, 3) * cs);
             }
+            if (!b.is_template && (b.shape.half.x > cs / 2 || b.shape.half.y > cs / 2))
+                fit_inside(&b, (nt_real)w * cs, (nt_real)h * cs);
             assert_int_equal(nt_level_add_body(lv, &b, NULL, NULL), NT_OK);
             if (b.is_template) {
                 nt_level_spawner s;
@@ -641,13 +740,22 @@ static void test_api_validation(void **state)
     assert_int_equal(nt_level_create(3, 3, 24, &lv), NT_OK);
     nt_level_body b = nt_level_default_body(lv);
     strcpy(b.name, "a");
-    b.shape = nt_shape_circle(13);
+    b.shape = nt_shape_circle(R(96.5)); /* above NT_MAX_HALF_CELLS (4) cells of 24 */
     nt_text_error ae;
     assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
-    assert_non_null(strstr(ae.message, "body 'a': "));
+    assert_string_equal(ae.message, "body 'a': shape larger than the largest half-size (4 cells)");
     assert_int_equal(lv->body_count, 0);
     assert_int_equal(nt_level_add_body(lv, &b, NULL, NULL), NT_ERR_INVALID_ARGUMENT); /* no report asked for */
-    b.shape = nt_shape_circle(12);
+    b.shape = nt_shape_aabb(12, 97);
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(ae.message, "body 'a': shape larger than the largest half-size (4 cells)");
+    b.shape = nt_shape_aabb(R(NAN), 12);
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    b.shape = nt_shape_aabb(0, 12);
+    assert_int_equal(nt_level_add_body(lv, &b, NULL, &ae), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lv->body_count, 0);
+    b.shape = nt_shape_circle(36); /* above half a cell, wholly inside the 72 x 72 map */
+    b.position = nt_v2(36, 36);
     int index = -1;
     assert_int_equal(nt_level_add_body(lv, &b, &index, &ae), NT_OK);
     assert_int_equal(index, 0);
@@ -748,6 +856,7 @@ int main(void)
         cmocka_unit_test(test_body_errors),
         cmocka_unit_test(test_spawner_errors),
         cmocka_unit_test(test_parse_out_of_memory),
+        cmocka_unit_test(test_large_bodies),
         cmocka_unit_test(test_roundtrip_hand_written),
         cmocka_unit_test(test_canonical_text),
         cmocka_unit_test(test_roundtrip_random),

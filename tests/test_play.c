@@ -717,6 +717,93 @@ static void test_throw_and_delete(void **state)
     free(ib.px);
 }
 
+/* L cycles the thrown body's size (0.6, 1, 2, 4 cells across, then back): the
+ * message says it, and the throw preview (left button held) has that size. */
+static void test_throw_size_key(void **state)
+{
+    (void)state;
+    scratch_write_text("size.script", "1 press L\n2 press L\n3 press L\n4 mouse down left 480 288\n");
+    const char *a = scratch_path("size.bmp");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("size.script"), "--frames", "6", LAB_VIEW,
+                                  "--screenshot", a, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "thrown bodies: 4 cells across");
+    run_free(&r);
+    /* Zoom 2: a ball 4 cells (96 units) across is a circle of radius 96 pixels. */
+    image im = load_bmp(a);
+    assert_true(count_color(&im, 480 + 94, 286, 480 + 99, 291, PG_COLOR_SELECT) > 0);
+    assert_true(count_color(&im, 480 - 99, 286, 480 - 94, 291, PG_COLOR_SELECT) > 0);
+    assert_int_equal(count_color(&im, 480 + 10, 282, 480 + 20, 294, PG_COLOR_SELECT), 0); /* not the default 0.6 cells */
+    free(im.px);
+    /* A fourth press comes back to the default. */
+    scratch_write_text("size4.script", "1 press L\n2 press L\n3 press L\n4 press L\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("size4.script"), "--frames", "6", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "thrown bodies: 0.6 cells across");
+    run_free(&r);
+    /* A 4-cell ball thrown at world (10, 10) would reach outside the map: refused, said why. */
+    scratch_write_text("edge.script", "1 press L\n2 press L\n3 press L\n4 mouse down left 20 20\n4 mouse up left 20 20\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("edge.script"), "--frames", "6", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "cannot throw there: a body larger than half a cell must lie inside the map");
+    expect_in(r.out, "bodies 2 ");
+    run_free(&r);
+}
+
+/* A 20 x 12 room of cells of 24, a FULL floor at row 8 (top y = 192) over an empty
+ * gap, and the bottom row FULL (top y = 264). */
+static const char shelf_level[] = "ntile-level 1\nsize 20 12\ncell 24\ntiles\n"
+                                  "|####################|\n|#..................#|\n|#..................#|\n"
+                                  "|#..................#|\n|#..................#|\n|#..................#|\n"
+                                  "|#..................#|\n|#..................#|\n|####################|\n"
+                                  "|#..................#|\n|#..................#|\n|####################|\n";
+
+/* A large thrown box (4 cells across) falls asleep on the floor; painting the floor
+ * under it away wakes it and it drops to the bottom row (needs the engine to accept
+ * large bodies). */
+static void test_large_throw_and_paint(void **state)
+{
+    (void)state;
+    scratch_write_text("shelf.ntl", shelf_level);
+    /* Q: box; L x 3: 4 cells across; a click at world (240, 120) throws it at rest. */
+    static const char throw_lines[] = "1 press Q\n1 press L\n1 press L\n1 press L\n2 mouse down left 480 240\n"
+                                      "2 mouse up left 480 240\n";
+    scratch_write_text("big.script", throw_lines);
+    /* Then Tab x 33 (FULL -> EMPTY) and a right-drag along row 8, cells 1..18. */
+    char paint[4096];
+    int n = snprintf(paint, sizeof paint, "%s", throw_lines);
+    for (int i = 0; i < NT_TILE_COUNT - 1; i++) n += snprintf(paint + n, sizeof paint - (size_t)n, "3 press Tab\n");
+    snprintf(paint + n, sizeof paint - (size_t)n, "100 mouse down right 72 408\n101 mouse move 888 408\n101 mouse up right 888 408\n");
+    scratch_write_text("bigpaint.script", paint);
+    const char *a = scratch_path("big.bmp"), *b = scratch_path("bigpaint.bmp");
+    const char *view[] = {"--no-hud", "--size", "960x576", "--zoom", "2", "--center", "240", "144"};
+    run_result r;
+    run_play(&r, (const char *[]){scratch_path("shelf.ntl"), "--script", scratch_path("big.script"), "--frames", "100", view[0],
+                                  view[1], view[2], view[3], view[4], view[5], view[6], view[7], "--screenshot", a, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "bodies 1 (awake 0)");
+    run_free(&r);
+    run_play(&r, (const char *[]){scratch_path("shelf.ntl"), "--script", scratch_path("bigpaint.script"), "--frames", "180",
+                                  view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], "--screenshot", b, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    image ia = load_bmp(a), ib = load_bmp(b);
+    /* Asleep on the floor: centre (240, 144), 48 units each way (the painting cursor
+     * outlines cell (10, 5), where the click was: looked at beside it). */
+    expect_pixel(&ia, 2 * 230, 2 * 150, PG_BODY_FILL(0x808080u), "the large box asleep on the floor");
+    expect_pixel(&ia, 480 + 2 * 44, 2 * 110, PG_BODY_FILL(0x808080u), "inside the large box (48 units half-size)");
+    expect_pixel(&ia, 480, 2 * 204, PG_COLOR_TILE, "the floor under it");
+    /* The floor painted away: it fell to the bottom row (centre y 216, spans 168..264). */
+    expect_pixel(&ib, 2 * 84, 2 * 204, PG_COLOR_BG, "a painted floor cell (3, 8)");
+    expect_pixel(&ib, 480, 2 * 120, PG_COLOR_BG, "where the box was");
+    uint32_t c = pixel(&ib, 480, 2 * 240);
+    if (c != PG_BODY_FILL(0x808080u) && c != PG_BODY_FILL(PG_ENGINE_AWAKE))
+        fail_msg("the large box on the bottom row: pixel is 0x%06x", c);
+    free(ia.px);
+    free(ib.px);
+}
+
 /* F switches the friction model: the world is rebuilt from the level, and F2 saves
  * the level with the new model. */
 static void test_friction_model_switch(void **state)
@@ -869,6 +956,7 @@ int main(void)
         cmocka_unit_test(test_resize),             cmocka_unit_test(test_gizmo_on_off),
         cmocka_unit_test(test_hud_and_palette),    cmocka_unit_test(test_record_replay),
         cmocka_unit_test(test_record_edited_level), cmocka_unit_test(test_paint_and_save),     cmocka_unit_test(test_throw_and_delete),
+        cmocka_unit_test(test_throw_size_key),     cmocka_unit_test(test_large_throw_and_paint),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
         cmocka_unit_test(test_errors),

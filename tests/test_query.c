@@ -248,6 +248,12 @@ static void test_tile_answers(void **state)
         /* 22DEGpnS: solid below y = 0.5 + x/2, normal (1,-2)/sqrt5. Box corner (0.4,0.8)
          * is 0.1 below the line at x = 0.4: depth 0.2/sqrt5 -> (0.04, -0.08). */
         {"tile 22DEGpnS aabb 0.5 0.7 0.1 0.1", "v 0.04 -0.08"},
+        /* Larger than the cell. A 4 x 2 box, y span [-0.7, 1.3]: up by 1.3 (down 1.7,
+         * sideways 2.5). */
+        {"tile FULL aabb 0.5 0.3 2 1", "v 0 -1.3"},
+        /* The 45DEGpn circle above with radius 2: out along the normal by 2 + 0.2/sqrt2,
+         * i.e. DX = (2 + 0.2/sqrt2)/sqrt2 = sqrt2 + 0.1. */
+        {"tile 45DEGpn circle 0.3 0.5 2", "v 1.5142135624 -1.5142135624"},
         /* 67DEGpnS: solid where x < y/2, normal (2,-1)/sqrt5. Centre (0.2,0.6) is inside
          * by 0.2/sqrt5; out by 0.1 + 0.2/sqrt5 -> (0.2/sqrt5 + 0.08, -0.1/sqrt5 - 0.04). */
         {"tile 67DEGpnS circle 0.2 0.6 0.1", "v 0.1694427191 -0.0847213595"},
@@ -388,12 +394,15 @@ static void test_error_lines(void **state)
         {"tile FULL aabb 0.5 0.5 -0.1 0.1", "e negative"},
         {"tile FULL aabb 0.5 0.5 0.1 -0.1", "e negative"},
         {"pair circle 0 0 -0.001 circle 0 0 0.1", "e negative"},
-        {"tile FULL aabb 0.5 0.5 0.6 0.1", "e half a cell"},
-        {"tile FULL aabb 0.5 0.5 0.1 0.5000001", "e half a cell"},
-        {"tile FULL circle 0.5 0.5 0.51", "e half a cell"},
-        /* Exactly half a cell is allowed. */
-        /* Ways out: down 1 + 0.5 - 0.6 = 0.9, left/right 1.0, up 1.1. */
+        /* Half-sizes up to NT_MAX_HALF_CELLS (4) cells: bodies up to 8 cells across. */
+        {"tile FULL aabb 0.5 0.5 4.5 0.1", "e half-width '4.5' is larger than the largest half-size (4)"},
+        {"tile FULL aabb 0.5 0.5 0.1 4.0000005", "e larger than the largest half-size (4)"},
+        {"tile FULL circle 0.5 0.5 4.01", "e radius '4.01' is larger than the largest half-size (4)"},
+        {"pair aabb 0 0 0.1 0.1 circle 0 0 1e6", "e '1e6' is larger than the largest half-size (4)"},
+        /* Half a cell, as before. Ways out: down 1 + 0.5 - 0.6 = 0.9, left/right 1.0, up 1.1. */
         {"tile FULL circle 0.5 0.6 0.5", "v 0 0.9"},
+        /* Exactly the cap: down 1 - 0.6 + 4 = 4.4, left/right 4.5, up 4.6. */
+        {"tile FULL circle 0.5 0.6 4", "v 0 4.4"},
         {"map 0 1 FULL", "e '0'"},
         {"map 4097 1 FULL", "e '4097'"},
         {"map 1 -1 FULL", "e '-1'"},
@@ -408,6 +417,25 @@ static void test_error_lines(void **state)
         {"", NULL},
         {" \t ", NULL},
         {"tile FULL aabb 0.5 0.1 0.25 0.25 # a trailing comment", "v 0 -0.35"},
+    };
+    RUN_CASES(cases);
+}
+
+/* Objects larger than a cell against a map (issue 18): an 8 x 6 box of cells, its
+ * bottom row FULL (top at y = 5); outside the map is solid. */
+static void test_resolve_large(void **state)
+{
+    (void)state;
+    static const qa cases[] = {
+        {"map 8 6 0,0,0,0,0,0,0,0 0,0,0,0,0,0,0,0 0,0,0,0,0,0,0,0 0,0,0,0,0,0,0,0 0,0,0,0,0,0,0,0 1,1,1,1,1,1,1,1", "ok"},
+        /* A 4 x 2.4 box sunk 0.1 into the floor across four seams: up. */
+        {"resolve aabb 4 3.9 2 1.2", "v 0 -0.1"},
+        /* A circle 3 across sunk 0.1: up. */
+        {"resolve circle 4 3.6 1.5", "v 0 -0.1"},
+        /* 0.1 into the left border: right. */
+        {"resolve aabb 1.9 2 2 1", "v 0.1 0"},
+        /* The largest box, 8 x 8 cells, in the air between border and floor: touching only. */
+        {"resolve aabb 4 1 4 1", "v 0 0"},
     };
     RUN_CASES(cases);
 }
@@ -853,6 +881,7 @@ int main(void)
         cmocka_unit_test(test_map_resolve_and_ray),
         cmocka_unit_test(test_no_negative_zero),
         cmocka_unit_test(test_error_lines),
+        cmocka_unit_test(test_resolve_large),
         cmocka_unit_test(test_resolve_and_ray_need_a_map),
         cmocka_unit_test(test_exit_status),
         cmocka_unit_test(test_usage_errors),

@@ -284,9 +284,15 @@ static void test_documented_limits(void **state)
     nt_body_id id;
     assert_int_equal(nt_body_create(w, &b, &id), NT_ERR_OUT_OF_RANGE);
     b.position = nt_v2(100, 100);
-    b.shape = nt_shape_circle(R(24.0 * NT_MAX_HALF_CELLS + 0.01));
+    /* Half-sizes up to NT_MAX_HALF_CELLS (4) cells of 24: 96 at most, either side. */
+    b.shape = nt_shape_circle(R(96.01));
+    assert_int_equal(nt_body_create(w, &b, &id), NT_ERR_SHAPE_TOO_LARGE);
+    b.shape = nt_shape_aabb(1, R(96.01));
     assert_int_equal(nt_body_create(w, &b, &id), NT_ERR_SHAPE_TOO_LARGE);
     assert_int_equal(nt_world_get_body_count(w), 0);
+    b.shape = nt_shape_aabb(R(24.0 * NT_MAX_HALF_CELLS), 1);
+    assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
+    assert_int_equal(nt_world_get_body_count(w), 1);
     nt_world_destroy(w);
 }
 

@@ -882,6 +882,43 @@ static void test_objects(void **state)
     }
 }
 
+/* Objects larger than a cell become large bodies (issue 18), up to 8 cells across. */
+static void test_large_objects(void **state)
+{
+    (void)state;
+    static const uint32_t g[12 * 9] = {0};
+    for (int fmt = F_TMX; fmt <= F_TMJ; fmt++) {
+        mspec m = {
+            .w = 12, .h = 9, .tw = 24, .th = 24,
+            .layers = {
+                {.name = "floor", .kind = L_TILES, .enc = E_CSV, .gids = g},
+                {.name = "things", .kind = L_OBJECTS,
+                 .objs = {
+                     {.id = 1, .name = "crate", .kind = O_RECT, .x = 24, .y = 48, .w = 24, .h = 48, .props = {{"type", NULL, "dynamic"}}},
+                     {.id = 2, .name = "platform", .kind = O_RECT, .x = 120, .y = 60, .w = 96, .h = 12,
+                      .props = {{"type", NULL, "static"}}},
+                     {.id = 3, .name = "boulder", .kind = O_ELLIPSE, .x = 0, .y = 0, .w = 192, .h = 192,
+                      .props = {{"type", NULL, "dynamic"}}},
+                     {.id = 4, .name = "slab", .kind = O_RECT, .x = 0, .y = 130, .w = 192, .h = 1, .props = {{"type", NULL, "static"}}},
+                 }},
+            },
+        };
+        nt_level *lv = import_ok(&m, fmt, NULL);
+        char *t = level_text(lv);
+        expect_in(t, "body crate dynamic box 12 24 at 36 72\n");          /* 1 x 2 cells */
+        expect_in(t, "body platform static box 48 6 at 168 66\n");        /* 4 cells wide */
+        expect_in(t, "body boulder dynamic circle 96 at 96 96\n");        /* 8 cells across: the cap */
+        expect_in(t, "body slab static box 96 0.5 at 96 130.5\n");
+        free(t);
+        assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
+        nt_world *w = NULL;
+        assert_int_equal(nt_level_create_world(lv, &w, NULL, 0), NT_OK);
+        assert_int_equal(nt_world_get_body_count(w), 4);
+        nt_world_destroy(w);
+        nt_level_destroy(lv);
+    }
+}
+
 static void test_object_warnings(void **state)
 {
     (void)state;
@@ -1024,10 +1061,16 @@ static void test_object_errors(void **state)
         const char *want;
         const char *at;
     } cases[] = {
-        {{.id = 3, .name = "big", .kind = O_RECT, .x = 1, .y = 1, .w = 17, .h = 4},
-         "layer \"o\": object \"big\" (id 3): a box of 17 x 4 is larger than a cell allows (at most 16 x 16)", NULL},
-        {{.id = 4, .name = "ball", .kind = O_ELLIPSE, .x = 1, .y = 1, .w = 18, .h = 18},
-         "layer \"o\": object \"ball\" (id 4): a circle of diameter 18 is larger than a cell allows (diameter at most 16)", NULL},
+        /* Cells of 16: bodies up to 8 cells (128) across. */
+        {{.id = 3, .name = "big", .kind = O_RECT, .x = 1, .y = 1, .w = 129, .h = 4},
+         "layer \"o\": object \"big\" (id 3): a box of 129 x 4 is larger than a body can be (at most 128 x 128, 8 x 8 cells)", NULL},
+        {{.id = 4, .name = "ball", .kind = O_ELLIPSE, .x = 1, .y = 1, .w = 130, .h = 130},
+         "layer \"o\": object \"ball\" (id 4): a circle of diameter 130 is larger than a body can be (diameter at most 128, 8 cells)", NULL},
+        {{.id = 17, .name = "tall", .kind = O_RECT, .x = 1, .y = 1, .w = 16, .h = 128.5},
+         "layer \"o\": object \"tall\" (id 17): a box of 16 x 128.5 is larger than a body can be (at most 128 x 128, 8 x 8 cells)", NULL},
+        /* Above half a cell, a body lies wholly inside the map (32 x 32 here). */
+        {{.id = 18, .name = "edge", .kind = O_RECT, .x = 20, .y = 1, .w = 20, .h = 4},
+         "layer \"o\": object \"edge\" (id 18): the body is larger than half a cell, so it must lie inside the map (0 0 .. 32 32)", NULL},
         {{.id = 5, .name = "my crate", .kind = O_RECT, .x = 1, .y = 1, .w = 4, .h = 4},
          "layer \"o\": object \"my crate\" (id 5): \"my crate\" is not an ntile name (a letter or '_', then letters, digits, '_', '-' or '.', at most 31 characters)", NULL},
         {{.id = 6, .name = "a", .kind = O_RECT, .x = 1, .y = 1, .w = 4, .h = 4, .props = {{"type", NULL, "floating"}}},
@@ -1324,6 +1367,7 @@ int main(void)
         cmocka_unit_test(test_flips_in_map),
         cmocka_unit_test(test_sparse_tile_ids),
         cmocka_unit_test(test_objects),
+        cmocka_unit_test(test_large_objects),
         cmocka_unit_test(test_object_warnings),
         cmocka_unit_test(test_errors_in_specs),
         cmocka_unit_test(test_object_errors),

@@ -718,6 +718,41 @@ static void test_large_speculative_contacts(void **state)
     }
 }
 
+/* A large sensor (a 6 x 4-cell zone) reports the small and large bodies entering and
+ * leaving it, and pushes none of them. */
+static void test_large_sensor(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 20, 1, nt_v2(0, 0), NT_FRICTION_COULOMB, false);
+    nt_body_def d = nt_default_body_def();
+    d.type = NT_BODY_STATIC;
+    d.is_sensor = true;
+    d.shape = nt_shape_aabb(3, 2);
+    d.position = nt_v2(20, 10);
+    nt_body_id zone;
+    assert_int_equal(nt_body_create(w, &d, &zone), NT_OK);
+    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle(R(0.3)), nt_v2(10, 9), nt_v2(6, 0), 0);
+    nt_body_id big = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(1.5), 1), nt_v2(30, 11), nt_v2(-6, 0), 0);
+    int began[2] = {0, 0}, ended[2] = {0, 0};
+    for (int k = 0; k < 240; k++) {
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        nt_sensor_events ev = nt_world_get_sensor_events(w);
+        for (int e = 0; e < ev.begin_count; e++) {
+            assert_true(nt_body_id_equals(ev.begin_events[e].sensor, zone));
+            began[nt_body_id_equals(ev.begin_events[e].visitor, big)]++;
+        }
+        for (int e = 0; e < ev.end_count; e++) ended[nt_body_id_equals(ev.end_events[e].visitor, big)]++;
+    }
+    assert_int_equal(began[0], 1);
+    assert_int_equal(began[1], 1);
+    assert_int_equal(ended[0], 1);
+    assert_int_equal(ended[1], 1);
+    /* Not pushed: both kept their speed all the way through. */
+    assert_true(fabs((double)nt_body_get_velocity(w, small).x - 6) < 1e-4);
+    assert_true(fabs((double)nt_body_get_velocity(w, big).x + 6) < 1e-4);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -731,6 +766,7 @@ int main(void)
         cmocka_unit_test(test_draw_hash_events_sleep),
         cmocka_unit_test(test_large_one_way),
         cmocka_unit_test(test_large_speculative_contacts),
+        cmocka_unit_test(test_large_sensor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -39,7 +39,7 @@ typedef enum nt_status {
     NT_OK = 0,
     NT_ERR_INVALID_ARGUMENT = -1, ///< null pointer, negative size, unknown enum value
     NT_ERR_NON_FINITE = -2,       ///< NaN or infinity where a finite number is needed
-    NT_ERR_SHAPE_TOO_LARGE = -3,  ///< half-size or radius above half a cell
+    NT_ERR_SHAPE_TOO_LARGE = -3,  ///< half-size or radius above NT_MAX_HALF_CELLS (4) cells
     NT_ERR_OUT_OF_RANGE = -4,     ///< cell coordinate or tile id outside its range
     NT_ERR_OUT_OF_MEMORY = -5,    ///< the allocator returned NULL
     NT_ERR_INVALID_ID = -6,       ///< stale or never-issued handle

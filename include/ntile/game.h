@@ -51,7 +51,9 @@ nt_real nt_rng_range(nt_rng *rng, nt_real lo, nt_real hi);
 /// 24-unit cells and gravity 320 the ninja runs 150 units/s and a held jump rises
 /// jump_speed^2 / (2 g jump_gravity_scale) = 3.5 cells.
 typedef struct nt_player_def {
-    nt_real radius;             ///< cells (N's ninja: 10/24)
+    nt_real radius;             ///< cells, > 0 and at most 0.5 (N's ninja: 10/24). The player stays
+                                ///< small: its controller (floor probe, wall sensing) is tuned for
+                                ///< a ninja; other bodies may be up to NT_MAX_HALF_CELLS cells.
     nt_real mass;
     nt_real run_speed;          ///< cells/s, top speed from input
     nt_real ground_accel;       ///< cells/s^2 toward run speed on the ground
@@ -103,6 +105,9 @@ typedef struct nt_game_state {
 } nt_game_state;
 
 /// Build a game from a level (which must outlive the game). On failure *out is NULL.
+/// Bodies on paths start where their path puts them at time 0: one above half a cell
+/// must lie wholly inside the map there (else NT_ERR_OUT_OF_RANGE, as the world
+/// requires); so must a large body a spawner creates (nt_game_step fails otherwise).
 nt_status nt_game_create(const nt_level *level, const nt_game_def *def, nt_game **out);
 
 /// Destroy a game and its world (NULL is ignored).
@@ -117,8 +122,9 @@ nt_status nt_game_step(nt_game *game, uint32_t keys, nt_real dt);
 nt_world *nt_game_get_world(const nt_game *game);
 
 /// Create a body in the game's world and count it as the game's (nt_game_get_bodies,
-/// score and kill regions); it has no level role. On failure (the statuses of
-/// nt_body_create) nothing changes and *out is null.
+/// score and kill regions); it has no level role. Any size the world accepts (half-size
+/// up to NT_MAX_HALF_CELLS cells), as for level bodies. On failure (the statuses of
+/// nt_body_create, e.g. NT_ERR_SHAPE_TOO_LARGE) nothing changes and *out is null.
 nt_status nt_game_add_body(nt_game *game, const nt_body_def *def, nt_body_id *out);
 
 /// Remove a body of the game (level, spawned or added) from the world and the game's

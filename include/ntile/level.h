@@ -84,7 +84,8 @@ typedef struct nt_level_path {
 typedef struct nt_level_body {
     char name[NT_LEVEL_NAME_MAX];
     nt_body_type type;
-    nt_shape shape;
+    nt_shape shape;  ///< half-size or radius > 0 and at most NT_MAX_HALF_CELLS cells (8 cells across);
+                     ///< above half a cell the body (each repeat) lies wholly inside the map
     nt_vec2 position;
     nt_vec2 velocity;
     nt_real mass;
@@ -163,7 +164,8 @@ nt_status nt_level_parse(const char *name, const char *text, size_t length, nt_l
 size_t nt_level_write(const nt_level *level, char *buf, size_t cap);
 
 /// Check a level built by hand (ranges, names, references, shapes against the cell
-/// size). NT_OK or the first problem, described in `error` (no position).
+/// size: half-sizes up to NT_MAX_HALF_CELLS cells, a body above half a cell inside the
+/// map). NT_OK or the first problem, described in `error` (no position).
 nt_status nt_level_validate(const nt_level *level, nt_text_error *error);
 
 /// Add a body (copied) to the level; *index (may be NULL) receives its index. Checked

@@ -171,6 +171,7 @@ static int player_def_ok(const nt_player_def *p)
                          p->bouncy_threshold};
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
         if (!isfinite(v[i]) || v[i] < 0) return 0;
+    /* The player stays within half a cell though bodies may be larger (game.h). */
     return p->radius > 0 && p->radius <= (nt_real)0.5 && p->mass > 0;
 }
 

@@ -271,6 +271,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_h:
     case SDLK_F1: pg_command(p, PG_CMD_HELP, 0); break;
     case SDLK_q: pg_command(p, PG_CMD_THROW_SHAPE, 0); break;
+    case SDLK_l: pg_command(p, PG_CMD_THROW_SIZE, 0); break;
     case SDLK_f: pg_command(p, PG_CMD_FRICTION_MODEL, 0); break;
     case SDLK_F2: pg_command(p, PG_CMD_SAVE, 0); break;
     case SDLK_F5: pg_command(p, PG_CMD_RECORD, 0); break;

@@ -34,6 +34,14 @@ const pg_gizmo_info pg_gizmos[PG_GZ_COUNT] = {
 static const char *const shipped[] = {"tour", "ninja", "pachinko", "lab", "slopes", "stress"};
 #define SHIPPED_COUNT ((int)(sizeof shipped / sizeof shipped[0]))
 
+/* Thrown bodies' sizes in cells across, cycled by L; the first is the default. Bodies
+ * may be up to 2 * NT_MAX_HALF_CELLS (8) cells across. */
+static const double throw_sizes[] = {0.6, 1, 2, 4};
+#define THROW_SIZES ((int)(sizeof throw_sizes / sizeof throw_sizes[0]))
+
+double pg__throw_cells(const pg *p) { return throw_sizes[p->throw_size]; }
+double pg__throw_half(const pg *p) { return 0.5 * pg__throw_cells(p) * (double)p->level->cell_size; }
+
 /* Throws: world units per second of velocity per world unit dragged. */
 #define THROW_GAIN 4.0
 
@@ -924,6 +932,10 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
         say(p, "projection vectors x%g", p->proj_scale);
         break;
     case PG_CMD_THROW_SHAPE: p->throw_circle = !p->throw_circle; break;
+    case PG_CMD_THROW_SIZE:
+        p->throw_size = (p->throw_size + 1) % THROW_SIZES;
+        say(p, "thrown bodies: %g cell%s across", pg__throw_cells(p), pg__throw_cells(p) == 1 ? "" : "s");
+        break;
     case PG_CMD_BOUNCE:
         p->bounce = fmin(1, fmax(0, round((p->bounce + 0.05 * arg) * 20) / 20));
         break;
@@ -1006,10 +1018,10 @@ static void paint_to(pg *p, double sx, double sy)
 
 static void throw_body(pg *p, pg_vec from, pg_vec to)
 {
-    double cs = (double)p->level->cell_size;
+    nt_real h = (nt_real)pg__throw_half(p);
     nt_body_def d = nt_default_body_def();
     d.type = NT_BODY_DYNAMIC;
-    d.shape = p->throw_circle ? nt_shape_circle((nt_real)(0.3 * cs)) : nt_shape_aabb((nt_real)(0.3 * cs), (nt_real)(0.3 * cs));
+    d.shape = p->throw_circle ? nt_shape_circle(h) : nt_shape_aabb(h, h);
     d.position = nt_v2((nt_real)from.x, (nt_real)from.y);
     d.velocity = nt_v2((nt_real)((to.x - from.x) * THROW_GAIN), (nt_real)((to.y - from.y) * THROW_GAIN));
     d.mass = 1;
@@ -1017,7 +1029,9 @@ static void throw_body(pg *p, pg_vec from, pg_vec to)
     d.material.bounce = (nt_real)p->bounce;
     nt_body_id id;
     nt_status s = nt_game_add_body(p->game, &d, &id);
-    if (s != NT_OK) say(p, "cannot throw there: %s", nt_status_string(s));
+    if (s == NT_ERR_OUT_OF_RANGE && (double)h > 0.5 * (double)p->level->cell_size)
+        say(p, "cannot throw there: a body larger than half a cell must lie inside the map");
+    else if (s != NT_OK) say(p, "cannot throw there: %s", nt_status_string(s));
 }
 
 typedef struct pick {

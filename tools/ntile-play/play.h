@@ -63,6 +63,7 @@ typedef enum pg_cmd {
     PG_CMD_GIZMO,       /* arg: PG_GZ_* */
     PG_CMD_PROJ_SCALE,  /* cycle projection magnification */
     PG_CMD_THROW_SHAPE,
+    PG_CMD_THROW_SIZE,  /* cycle the thrown body's size: 0.6, 1, 2, 4 cells across */
     PG_CMD_BOUNCE,      /* arg: +1 / -1 */
     PG_CMD_FRICTION,    /* arg: +1 / -1 */
     PG_CMD_FRICTION_MODEL,

@@ -313,7 +313,7 @@ static void draw_tools(rctx *r)
     if (p->drag == PG_MOUSE_LEFT) {
         pg_vec a = pg__to_screen(p, p->drag_from.x, p->drag_from.y);
         pg_arrow(r->c, a.x, a.y, p->mx, p->my, 7, PG_COLOR_SELECT);
-        double rad = 0.3 * (double)p->level->cell_size * p->zoom;
+        double rad = pg__throw_half(p) * p->zoom;
         if (p->throw_circle) pg_circle(r->c, a.x, a.y, rad, PG_COLOR_SELECT);
         else pg_rect(r->c, (int)(a.x - rad), (int)(a.y - rad), (int)(a.x + rad), (int)(a.y + rad), PG_COLOR_SELECT);
     }
@@ -382,9 +382,12 @@ static void draw_hud(pg *p, pg_canvas *c, double fps, int ts)
         snprintf(state, sizeof state, "  %s", st.complete ? "COMPLETE" : !st.alive ? "DEAD (R restarts)" : "alive");
     snprintf(lines[n++], sizeof lines[0], "fps %.0f  step %.0f us  bodies %d (awake %d)  score %d%s", fps, p->step_us,
              w ? nt_world_get_body_count(w) : 0, w ? nt_world_get_awake_count(w) : 0, st.score, state);
+    double across = pg__throw_cells(p);
     snprintf(lines[n++], sizeof lines[0],
-             "throw %s (Q)  bounce %.2f ([ ])  friction %.2f (; ')  friction model %s (F: rebuilds the world from the level)",
-             p->throw_circle ? "ball" : "box", p->bounce, p->friction, model_name(p->level->friction_model));
+             "throw %s (Q) %g cell%s across (L)  bounce %.2f ([ ])  friction %.2f (; ')  friction model %s (F: rebuilds the "
+             "world from the level)",
+             p->throw_circle ? "ball" : "box", across, across == 1 ? "" : "s", p->bounce, p->friction,
+             model_name(p->level->friction_model));
     char gl[200] = "";
     for (int g = 0; g < PG_GZ_COUNT; g++)
         if (gz(p, g)) {
@@ -444,7 +447,8 @@ static void draw_help(pg *p, pg_canvas *c, int ts)
                      "        middle      delete the body under the mouse\n"
                      "        click the strip on the right to select a tile; Tab / Shift+Tab cycle\n"
                      "\n"
-                     "Q  ball / box    [ ]  bounce -/+    ; '  friction -/+    (of new bodies)\n"
+                     "Q  ball / box    L  size 0.6 / 1 / 2 / 4 cells across\n"
+                     "[ ]  bounce -/+    ; '  friction -/+    (of new bodies)\n"
                      "F  friction model N / Coulomb: the model belongs to the world,\n"
                      "   so switching rebuilds the world from the level (thrown bodies go)\n"
                      "F2  save the level (.ntl, with your paint)\n"

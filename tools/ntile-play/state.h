@@ -53,6 +53,7 @@ struct pg {
 
     /* Tuning of thrown bodies. */
     bool throw_circle;
+    int throw_size; /* index into the sizes pg__throw_cells gives */
     double bounce, friction;
     int tile; /* palette selection */
 
@@ -105,6 +106,9 @@ pg_vec pg__to_world(const pg *p, double x, double y);
 pg_vec pg__player_pos(const pg *p, double alpha); /* interpolated */
 double pg__alpha(const pg *p);
 void pg__strip_rect(const pg *p, int *x0, int *cell, int *gap);
+/* Width (and height) of a thrown body, in cells, and the half-size in world units. */
+double pg__throw_cells(const pg *p);
+double pg__throw_half(const pg *p);
 /* Place the camera for this frame (render.c calls it first). */
 void pg__prepare_view(pg *p);
 /* Momentum and kinetic energy of the dynamic bodies. */

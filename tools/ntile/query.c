@@ -226,13 +226,15 @@ static int parse_number(query *q, const char *s, const char *what, nt_real *out)
     return 1;
 }
 
-/* A size: half-width, half-height or radius, in [0, 0.5]. */
+/* A size: half-width, half-height or radius, in [0, NT_MAX_HALF_CELLS] cells (bodies
+ * up to 8 cells across). */
 static int parse_size(query *q, const char *s, const char *what, nt_real *out)
 {
     char qb[QUOTE_MAX];
     if (!parse_number(q, s, what, out)) return 0;
     if (*out < 0) return fail(q, "negative %s '%s'", what, quote(qb, s));
-    if (*out > (nt_real)0.5) return fail(q, "%s '%s' is larger than half a cell (0.5)", what, quote(qb, s));
+    if (*out > (nt_real)NT_MAX_HALF_CELLS)
+        return fail(q, "%s '%s' is larger than the largest half-size (%d)", what, quote(qb, s), NT_MAX_HALF_CELLS);
     return 1;
 }
 

@@ -920,23 +920,25 @@ static nt_status object_body(builder *b, const tl_layer *l, const tl_object *o, 
     nt_level_body body = nt_level_default_body(lv);
     nt_status s;
     char q[64];
-    double cell = (double)lv->cell_size, cx, cy;
+    /* Bodies may be up to 2 * NT_MAX_HALF_CELLS cells across (the level's check). */
+    nt_real cap = lv->cell_size * NT_MAX_HALF_CELLS;
+    double most = 2 * (double)cap, cx, cy;
     if (!(o->w > 0 && o->h > 0)) return tl_fail(c, o->loc, "%s: a body needs a width and a height", what);
     if (o->shape == TL_ELLIPSE) {
         double d = o->w < o->h ? o->w : o->h;
         if (o->w != o->h)
             tl_warn(c, o->loc, "%s: the ellipse is %g x %g, not a circle; the body is a circle of diameter %g", what, o->w,
                     o->h, d);
-        if ((nt_real)(d / 2) > lv->cell_size * (nt_real)0.5)
-            return tl_fail(c, o->loc, "%s: a circle of diameter %g is larger than a cell allows (diameter at most %g)", what,
-                           d, cell);
+        if ((nt_real)(d / 2) > cap)
+            return tl_fail(c, o->loc, "%s: a circle of diameter %g is larger than a body can be (diameter at most %g, %d cells)",
+                           what, d, most, 2 * NT_MAX_HALF_CELLS);
         body.shape = nt_shape_circle((nt_real)(d / 2));
         cx = o->x + o->w / 2;
         cy = o->y + o->h / 2;
     } else {
-        if ((nt_real)(o->w / 2) > lv->cell_size * (nt_real)0.5 || (nt_real)(o->h / 2) > lv->cell_size * (nt_real)0.5)
-            return tl_fail(c, o->loc, "%s: a box of %g x %g is larger than a cell allows (at most %g x %g)", what, o->w, o->h,
-                           cell, cell);
+        if ((nt_real)(o->w / 2) > cap || (nt_real)(o->h / 2) > cap)
+            return tl_fail(c, o->loc, "%s: a box of %g x %g is larger than a body can be (at most %g x %g, %d x %d cells)", what,
+                           o->w, o->h, most, most, 2 * NT_MAX_HALF_CELLS, 2 * NT_MAX_HALF_CELLS);
         body.shape = nt_shape_aabb((nt_real)(o->w / 2), (nt_real)(o->h / 2));
         cx = o->x + o->w / 2;
         cy = o->y + o->h / 2;
@@ -947,6 +949,12 @@ static nt_status object_body(builder *b, const tl_layer *l, const tl_object *o, 
     if (!in_reach(lv, cx, cy))
         return tl_fail(c, o->loc, "%s: the body lies more than %d cells outside the map", what, NT_WORLD_REACH_CELLS);
     body.position = nt_v2((nt_real)cx, (nt_real)cy);
+    /* The world's rule: a body above half a cell lies wholly inside the map. */
+    nt_vec2 h = body.shape.half, p = body.position;
+    nt_real lim = lv->cell_size * (nt_real)0.5, mw = (nt_real)lv->width * lv->cell_size, mh = (nt_real)lv->height * lv->cell_size;
+    if ((h.x > lim || h.y > lim) && !(p.x - h.x >= 0 && p.y - h.y >= 0 && p.x + h.x <= mw && p.y + h.y <= mh))
+        return tl_fail(c, o->loc, "%s: the body is larger than half a cell, so it must lie inside the map (0 0 .. %g %g)", what,
+                       (double)mw, (double)mh);
     /* type: the property, else Tiled's class field when it names a type. */
     const char *type = NULL;
     if ((s = prop_string(c, what, &o->props, "type", &type)) != NT_OK) return s;
