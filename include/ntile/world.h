@@ -437,8 +437,9 @@ typedef struct nt_query_filter {
     bool tiles;       ///< ray casts and shape casts: include the tiles
     int ignore_count; ///< how many of ignore[] are used, 0..NT_QUERY_IGNORE_MAX (others: none)
     nt_body_id ignore[NT_QUERY_IGNORE_MAX]; ///< bodies the query never reports
-    /// Called for each body that passes the tests above, before any geometry test;
-    /// return false to skip the body. NULL: every such body is seen. It must not change the world.
+    /// Called for each body that passes the tests above, before any geometry test (a
+    /// shape cast may ask twice about a body); return false to skip the body. NULL:
+    /// every such body is seen. It must not change the world.
     bool (*accept)(nt_body_id id, void *context);
     void *accept_context; ///< passed to accept
 } nt_query_filter;
