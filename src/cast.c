@@ -320,6 +320,12 @@ static int cell_one_way(const caster *c, int x, int y)
     return c->world && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
 }
 
+/* A one-way cell the cast passes through (filter.one_way_off). */
+static int cell_skipped(const caster *c, int x, int y)
+{
+    return c->filter && c->filter->one_way_off && cell_one_way(c, x, y);
+}
+
 /* Start overlap of the given shape with one tile, seams ignored as nt_map_resolve
  * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
 static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
@@ -385,6 +391,7 @@ static int start_tiles(caster *c, nt_real *rest)
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             nt_vec2 n;
+            if (cell_skipped(c, x, y)) continue;
             nt_real depth = tile_start_depth(c, x, y, &n);
             if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
             int had = c->best.kind;
@@ -398,7 +405,7 @@ static int start_tiles(caster *c, nt_real *rest)
 static void sweep_cell(caster *c, int x, int y, nt_real tmax)
 {
     int tile = nt__map_tile(c->map, x, y);
-    if (tile == NT_TILE_EMPTY) return;
+    if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) return;
     int one_way = cell_one_way(c, x, y);
     if (one_way) {
         nt_vec2 n;

@@ -133,6 +133,7 @@ typedef struct mover {
     nt_query_filter filter;
     int32_t skip_body; /* a body the current cast ignores (the platform being ridden), -1 none */
     nt_real cos_floor;
+    int on_ground;     /* stood on a floor before the move, or met one during it */
     nt_character_result *r;
 } mover;
 
@@ -233,10 +234,16 @@ static nt_vec2 slide_move(mover *m, nt_vec2 p, nt_vec2 d, nt_vec2 *v, nt_vec2 *w
         if (h.normal.x == 0 && h.normal.y == 0) break; /* started inside: stay */
         int kind = classify(m, h.normal);
         note(m, kind, &h);
+        if (kind == SURF_FLOOR) m->on_ground = 1;
         nt_vec2 rest = nt__scale(d, 1 - t);
         if (kind == SURF_WALL && rest.x != 0) *wall_left_over = rest;
         nt_vec2 next = slide_motion(m, rest, h.normal, kind);
-        if (kind == SURF_WALL && !m->c->def.slide_on_walls && m->r->on_floor) next = nt_v2(0, 0);
+        /* On a floor a wall (a steep slope too) is not climbed by running into it: the
+         * slide along it may go down, not up; without slide_on_walls it stops. */
+        if (kind == SURF_WALL && m->on_ground) {
+            if (!m->c->def.slide_on_walls) next = nt_v2(0, 0);
+            else if (next.y < 0) next = nt_v2(0, 0);
+        }
         *v = kind == SURF_FLOOR && m->c->def.stop_on_slope ? slide_motion(m, *v, h.normal, kind) : slide(*v, h.normal);
         /* Two surfaces in 2D: moving along the second must not go back into the first
          * (a crease); then nothing is left. */
@@ -331,6 +338,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     const nt_vec2 p0 = b->p;
     nt_vec2 p = p0;
     const int was_on_floor = c->on_floor;
+    m.on_ground = was_on_floor;
     /* The velocity of the body stood on (a moving platform), if it still lives. */
     nt_vec2 platform = nt_v2(0, 0);
     if (was_on_floor && c->floor_body >= 0) {
@@ -375,7 +383,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         r = keep; /* what the carry met is not the move's */
         if (!r.on_floor) v = nt__add(v, platform);
     }
-    if (r.on_floor && v.y > 0 && c->def.stop_on_slope) v.y = 0;
+    /* On a floor the floor carries the vertical part: what is left is the run along it
+     * (so running up a slope and over its crest does not launch the character, and
+     * the next move, not moving up, snaps). */
+    if (r.on_floor) v.y = 0;
     /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
     if (c->dropping && !touches_one_way(w, p, m.shape)) c->dropping = 0;
     /* Back to the body: its place and, for the contact solver, the velocity it moved at. */

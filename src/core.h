@@ -262,7 +262,18 @@ typedef struct nt__body_cold {
     nt_real mass;
     int32_t cprev, cnext;      /* creation order */
     int32_t park_head;         /* first parked slot naming this body (nt__plink chain), -1: none */
+    int32_t character;         /* index in world->chars, -1: not a character */
 } nt__body_cold;
+
+/* A character (character.c): a body the game moves with nt_character_move. */
+typedef struct nt__character {
+    int32_t body;
+    uint8_t type;              /* the body's own type (dynamic or kinematic); the step sees kinematic */
+    uint8_t on_floor, dropping;
+    int32_t floor_body;        /* the body stood on at the last move, -1: a tile or none */
+    uint32_t floor_gen;
+    nt_character_def def;
+} nt__character;
 
 /* A parked slot's place in the chains of its two bodies (next[0]: body a's, next[1]: b's). */
 typedef struct nt__plink {
@@ -333,6 +344,8 @@ struct nt_world {
     int lbase[NT__LEVELS], lw[NT__LEVELS], lh[NT__LEVELS];
     int lcount[NT__LEVELS][2]; /* bodies per level and list */
     int large_count;           /* bodies above half a cell in the grid (all levels >= 1) */
+    nt__character *chars;      /* characters (character.c) */
+    int char_count, char_cap;
 
     nt__contact *con, *con_new, *con_tmp, *parked;
     uint64_t *sort_keys;       /* 2 x 2 per new contact: (key, index) records of the radix sort */
@@ -419,6 +432,13 @@ static inline nt_shape nt__body_shape(const nt__body *b)
     s.half = b->half;
     return s;
 }
+
+/* world.c, for characters */
+void nt__set_kinematic(nt_world *w, int32_t i, bool kinematic); /* the step's view of a character's type */
+
+/* character.c */
+void nt__character_remove(nt_world *w, int32_t i); /* the body stops being a character (destroyed) */
+nt_body_type nt__character_type(const nt_world *w, int32_t i); /* a body's own type */
 
 /* grid.c */
 int nt__grid_level(const nt_world *w, nt_vec2 half); /* the level a body of this size sits in */

@@ -978,8 +978,14 @@ static void move_bodies(nt_world *w, nt_real dt)
         if (!(sp2 <= NT_REAL_MAX)) b->v = clamp_overflow(b->v, maxd / dt);
         else if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
         if (b->type == NT_BODY_KINEMATIC) {
-            b->p.x += b->v.x * dt;
-            b->p.y += b->v.y * dt;
+            /* A character was moved by nt_character_move: its velocity, that move's,
+             * has served the contacts; it does not carry over to the next step. */
+            if (w->cold[i].character >= 0) {
+                b->v = nt_v2(0, 0);
+            } else {
+                b->p.x += b->v.x * dt;
+                b->p.y += b->v.y * dt;
+            }
             moves++;
         } else {
             moves += move_dynamic(w, i, dt);

@@ -198,6 +198,7 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->rest_near);
     nt__free(w->lheads);
     nt__free(w->loccupied);
+    nt__free(w->chars);
     nt__free(w->sort_keys);
     nt__free(w->prox);
     nt__free(w->prox_tmp);
@@ -737,6 +738,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     c->cprev = w->last;
     c->cnext = -1;
     c->park_head = -1;
+    c->character = -1;
     if (w->last >= 0) w->cold[w->last].cnext = i;
     else w->first = i;
     w->last = i;
@@ -784,6 +786,7 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     if (b->type == NT_BODY_DYNAMIC && b->awake_slot < 0) nt__wake_group(w, i);
     wake_partners(w, i);
     awake_remove(w, i);
+    nt__character_remove(w, i);
     if (b->gcell >= 0) nt__grid_remove(w, i);
     b->flags = 0;
     b->generation++;
@@ -806,7 +809,21 @@ bool nt_body_is_valid(const nt_world *w, nt_body_id id) { return get_body(w, id)
 nt_body_type nt_body_get_type(const nt_world *w, nt_body_id id)
 {
     const nt__body *b = get_body(w, id);
-    return b ? (nt_body_type)b->type : NT_BODY_STATIC;
+    return b ? nt__character_type(w, id.index1 - 1) : NT_BODY_STATIC;
+}
+
+void nt__set_kinematic(nt_world *w, int32_t i, bool kinematic)
+{
+    nt__body *b = &w->bodies[i];
+    if (kinematic) {
+        /* Awake for good (kinematic bodies never sleep), its contacts back in play. */
+        if (b->awake_slot < 0) nt__wake(w, i);
+        b->type = NT_BODY_KINEMATIC;
+    } else {
+        b->type = NT_BODY_DYNAMIC;
+        b->sleep_time = 0;
+    }
+    b->v = nt_v2(0, 0);
 }
 
 nt_shape nt_body_get_shape(const nt_world *w, nt_body_id id)

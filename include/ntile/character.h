@@ -156,7 +156,7 @@ bool nt_character_is_valid(const nt_world *world, nt_body_id id);
 /// What a character move did and met.
 typedef struct nt_character_result {
     nt_vec2 position;       ///< where it ended
-    nt_vec2 velocity;       ///< the velocity to keep: slid along what it met (plus a platform's when leaving it)
+    nt_vec2 velocity;       ///< the velocity to keep: slid along what it met, with no vertical part on a floor (plus a platform's when leaving it)
     bool on_floor, on_wall, on_ceiling;
     nt_vec2 floor_normal, wall_normal, ceiling_normal; ///< of the surfaces met (zero when not)
     nt_body_id floor_body;  ///< the body it stands on; null for a tile or no floor

@@ -1,0 +1,369 @@
+/* The character mover: slopes with floor snap, step-up, moving platforms, one-way
+ * drops, floor/wall classification, bad input. N's scale: cell 24 units, gravity 900
+ * units/s^2, dt 1/60 s; the character is a 1 x 2-cell box unless a test says otherwise. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "ntile/ntile.h"
+
+#define R(x) ((nt_real)(x))
+static const nt_real DT = R(1.0 / 60);
+static const double CELL = 24, G = 900;
+
+static nt_world *make_world(int w, int h)
+{
+    nt_world_def d = nt_default_world_def();
+    d.map.width = w;
+    d.map.height = h;
+    d.map.cell_size = (nt_real)CELL;
+    d.gravity = nt_v2(0, (nt_real)G);
+    d.enable_sleep = false;
+    nt_world *world = NULL;
+    assert_int_equal(nt_world_create(&d, &world), NT_OK);
+    return world;
+}
+
+static nt_body_id add_character(nt_world *w, nt_body_type type, nt_shape s, double x, double y)
+{
+    nt_body_def d = nt_default_body_def();
+    d.type = type;
+    d.shape = s;
+    d.position = nt_v2((nt_real)x, (nt_real)y);
+    nt_body_id id;
+    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
+    nt_character_def cd = nt_default_character_def();
+    assert_int_equal(nt_character_create(w, id, &cd), NT_OK);
+    return id;
+}
+
+/* One tick of a simple platformer controller: run at vx, fall under gravity, jump. */
+typedef struct pad {
+    nt_vec2 v;
+    nt_character_result r;
+} pad;
+
+static void tick(nt_world *w, nt_body_id id, pad *p, double vx, bool jump)
+{
+    p->v.x = (nt_real)vx;
+    p->v.y += (nt_real)(G * (double)DT);
+    if (jump && p->r.on_floor) p->v.y = (nt_real)-400;
+    assert_int_equal(nt_character_move(w, id, p->v, DT, &p->r), NT_OK);
+    p->v = p->r.velocity;
+    assert_int_equal(nt_world_step(w, DT), NT_OK);
+}
+
+/* ---------------------------------------------------------------- slopes */
+
+/* A course of one slope kind: a plateau on row F - H, the slope going down H cells
+ * (tiles of `kind` in the orientation descending to the right), a floor on row F. */
+enum { SW = 80, SH = 20, SF = 16 };
+
+/* Build a slope of 45 or 22 degrees (26.6: two cells across a cell of height)
+ * descending to the right from x = 20, `drop` cells high, from a plateau onto the floor
+ * (row SF). Returns the first flat cell at its foot. */
+static int build_slope(nt_world *w, int kind, int drop)
+{
+    const int X0 = 20;
+    for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+    int x = X0;
+    /* The plateau: full cells on the rows above the floor, left of the slope. */
+    for (int px = 0; px < X0; px++)
+        for (int y = SF - drop; y < SF; y++) nt_world_set_tile(w, px, y, NT_TILE_FULL);
+    for (int k = 0; k < drop; k++) {
+        int y = SF - drop + k; /* the row this part of the slope crosses */
+        if (kind == 45) {
+            nt_world_set_tile(w, x, y, NT_TILE_45DEGpn);
+            for (int yy = y + 1; yy < SF; yy++) nt_world_set_tile(w, x, yy, NT_TILE_FULL);
+            x++;
+        } else { /* 22: two cells across per cell of height */
+            nt_world_set_tile(w, x, y, NT_TILE_22DEGpnB);
+            nt_world_set_tile(w, x + 1, y, NT_TILE_22DEGpnS);
+            for (int yy = y + 1; yy < SF; yy++) nt_world_set_tile(w, x, yy, NT_TILE_FULL), nt_world_set_tile(w, x + 1, yy, NT_TILE_FULL);
+            x += 2;
+        }
+    }
+    return x; /* the first flat cell at the foot */
+}
+
+static void mirror_map(nt_world *w)
+{
+    for (int y = 0; y < SH; y++)
+        for (int x = 0; x < SW / 2; x++) {
+            int a = nt_world_get_tile(w, x, y), b = nt_world_get_tile(w, SW - 1 - x, y);
+            nt_world_set_tile(w, x, y, b);
+            nt_world_set_tile(w, SW - 1 - x, y, a);
+        }
+}
+
+/* The tile id mirrored in x (N's names: swap the sign of x, pn <-> nn, np <-> pp). */
+static int mirror_x(int t)
+{
+    const nt_tile_info *info = nt_tile_get_info(t);
+    if (!info || info->signx == 0) {
+        if (t == NT_TILE_HALFr) return NT_TILE_HALFl;
+        if (t == NT_TILE_HALFl) return NT_TILE_HALFr;
+        return t;
+    }
+    char name[16];
+    snprintf(name, sizeof name, "%s", info->name);
+    size_t n = strlen(name);
+    char *sx = name + n - (name[n - 1] == 'S' || name[n - 1] == 'B' ? 3 : 2);
+    *sx = *sx == 'p' ? 'n' : 'p';
+    return nt_tile_from_name(name);
+}
+
+static void mirror_tiles(nt_world *w)
+{
+    mirror_map(w);
+    for (int y = 0; y < SH; y++)
+        for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, y, mirror_x(nt_world_get_tile(w, x, y)));
+}
+
+/* Down every floor slope (45 and 26.6 degrees, both ways) at 60 to 400 units/s with
+ * the snap on: never airborne from the plateau to the foot, never stopped; back up
+ * without stopping at a seam. */
+static void test_slopes_run_down_and_up(void **state)
+{
+    (void)state;
+    const int kinds[2] = {45, 22};
+    const double speeds[] = {60, 150, 250, 400};
+    for (int ki = 0; ki < 2; ki++)
+        for (int mirror = 0; mirror < 2; mirror++)
+            for (size_t si = 0; si < sizeof speeds / sizeof speeds[0]; si++) {
+                nt_world *w = make_world(SW, SH);
+                int foot = build_slope(w, kinds[ki], 3);
+                if (mirror) mirror_tiles(w);
+                double dir = mirror ? -1 : 1;
+                double x0 = mirror ? (SW - 10) * CELL : 10 * CELL;
+                nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), x0, (SF - 3) * CELL - 24 - 1);
+                pad p;
+                memset(&p, 0, sizeof p);
+                for (int k = 0; k < 30; k++) tick(w, id, &p, 0, false); /* land on the plateau */
+                assert_true(p.r.on_floor);
+                int airborne = 0, stops = 0, ticks = 0;
+                double end = mirror ? (SW - foot - 6) * CELL : (foot + 6) * CELL;
+                while (ticks < 2000) {
+                    double x = (double)nt_body_get_position(w, id).x;
+                    if ((end - x) * dir <= 0) break;
+                    tick(w, id, &p, dir * speeds[si], false);
+                    ticks++;
+                    double nx = (double)nt_body_get_position(w, id).x;
+                    if (!p.r.on_floor) airborne++;
+                    if ((nx - x) * dir < 0.5 * speeds[si] * (double)DT) stops++;
+                }
+                if (airborne || stops || ticks >= 2000)
+                    fail_msg("down %d%s at %g: %d airborne ticks, %d stops in %d ticks", kinds[ki], mirror ? " (mirrored)" : "",
+                             speeds[si], airborne, stops, ticks);
+                /* And back up to the plateau. */
+                double top = mirror ? (SW - 10) * CELL : 10 * CELL;
+                stops = 0;
+                ticks = 0;
+                while (ticks < 2000) {
+                    double x = (double)nt_body_get_position(w, id).x;
+                    if ((x - top) * dir <= 0) break;
+                    tick(w, id, &p, -dir * speeds[si], false);
+                    ticks++;
+                    double nx = (double)nt_body_get_position(w, id).x;
+                    if ((x - nx) * dir < 0.3 * speeds[si] * (double)DT) stops++;
+                }
+                if (stops || ticks >= 2000)
+                    fail_msg("up %d%s at %g: %d stops in %d ticks", kinds[ki], mirror ? " (mirrored)" : "", speeds[si], stops, ticks);
+                assert_true(p.r.on_floor);
+                nt_world_destroy(w);
+            }
+}
+
+/* A 63.4-degree slope is a wall with the default 50-degree floor angle: running into
+ * it, the character is against a wall, not on a floor. A 45-degree slope is a floor only. */
+static void test_floor_angle_classification(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(SW, SH);
+    for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+    /* A 67-degree slope rising to the right at x = 30 (B then S going up). */
+    nt_world_set_tile(w, 30, SF - 1, NT_TILE_67DEGnnB);
+    nt_world_set_tile(w, 30, SF - 2, NT_TILE_67DEGnnS);
+    for (int y = SF - 2; y < SF; y++) nt_world_set_tile(w, 31, y, NT_TILE_FULL);
+    nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 25 * CELL, SF * CELL - 24 - 1);
+    pad p;
+    memset(&p, 0, sizeof p);
+    int wall = 0;
+    for (int k = 0; k < 120; k++) {
+        tick(w, id, &p, 150, false);
+        if (p.r.on_wall) {
+            wall++;
+            assert_true(p.r.wall_normal.x < 0);
+            assert_true(p.r.wall_normal.y > R(-0.643));
+        }
+    }
+    assert_true(wall > 30);
+    assert_true(p.r.on_floor); /* on the flat floor under it */
+    assert_true(p.r.floor_normal.y < R(-0.999));
+    nt_world_destroy(w);
+}
+
+/* ---------------------------------------------------------------- steps */
+
+static void test_step_up(void **state)
+{
+    (void)state;
+    for (int full = 0; full < 2; full++) {
+        nt_world *w = make_world(SW, SH);
+        for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+        for (int x = 30; x < 40; x++) nt_world_set_tile(w, x, SF - 1, full ? NT_TILE_FULL : NT_TILE_HALFd);
+        nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 25 * CELL, SF * CELL - 24 - 1);
+        pad p;
+        memset(&p, 0, sizeof p);
+        int stepped = 0;
+        for (int k = 0; k < 120; k++) {
+            tick(w, id, &p, 150, false);
+            stepped += p.r.stepped_up;
+        }
+        double x = (double)nt_body_get_position(w, id).x, y = (double)nt_body_get_position(w, id).y;
+        if (full) {
+            assert_int_equal(stepped, 0);
+            assert_true(x < 30 * CELL - 12 + 1);
+        } else {
+            assert_int_equal(stepped, 1);
+            assert_true(x > 31 * CELL);
+            assert_true(fabs(y - ((SF - 0.5) * CELL - 24)) < 0.05 * CELL);
+            assert_true(p.r.on_floor);
+        }
+        nt_world_destroy(w);
+    }
+}
+
+/* ---------------------------------------------------------------- platforms */
+
+/* A character standing on a 4 x 1-cell kinematic platform moving in 8 directions
+ * (sinusoidally, 400 steps each) stays put relative to it within 1e-3 cell; jumping
+ * off keeps the platform's velocity. */
+static void test_rides_platforms(void **state)
+{
+    (void)state;
+    for (int dir = 0; dir < 8; dir++) {
+        nt_world *w = make_world(60, 40);
+        nt_body_def pd = nt_default_body_def();
+        pd.type = NT_BODY_KINEMATIC;
+        pd.shape = nt_shape_aabb(2 * (nt_real)CELL, (nt_real)CELL / 2);
+        pd.position = nt_v2((nt_real)(30 * CELL), (nt_real)(20 * CELL));
+        nt_body_id plat;
+        assert_int_equal(nt_body_create(w, &pd, &plat), NT_OK);
+        nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 30 * CELL, 20 * CELL - 12 - 24 - 1);
+        pad p;
+        memset(&p, 0, sizeof p);
+        for (int k = 0; k < 30; k++) tick(w, id, &p, 0, false);
+        assert_true(p.r.on_floor && nt_body_id_equals(p.r.floor_body, plat));
+        nt_vec2 rel0 = nt_v2(nt_body_get_position(w, id).x - nt_body_get_position(w, plat).x,
+                             nt_body_get_position(w, id).y - nt_body_get_position(w, plat).y);
+        double a = dir * 3.14159265358979 / 4, worst = 0;
+        for (int k = 0; k < 400; k++) {
+            double s = 150 * sin(k * (double)DT * 3);
+            nt_body_set_velocity(w, plat, nt_v2((nt_real)(s * cos(a)), (nt_real)(s * sin(a))));
+            tick(w, id, &p, 0, false);
+            double rx = (double)nt_body_get_position(w, id).x - (double)nt_body_get_position(w, plat).x - (double)rel0.x;
+            double ry = (double)nt_body_get_position(w, id).y - (double)nt_body_get_position(w, plat).y - (double)rel0.y;
+            worst = fmax(worst, fmax(fabs(rx), fabs(ry)) / CELL);
+        }
+        if (worst > 1e-3) fail_msg("direction %d: drift %.3g cell", dir, worst);
+        /* Jump off while the platform moves at a steady velocity: the platform's part stays. */
+        nt_vec2 pv = nt_v2((nt_real)(100 * cos(a)), (nt_real)(100 * sin(a)));
+        nt_body_set_velocity(w, plat, pv);
+        tick(w, id, &p, 0, false);
+        tick(w, id, &p, 0, true);
+        assert_false(p.r.on_floor);
+        assert_true(fabs((double)p.v.x - (double)pv.x) < 1e-3);
+        nt_world_destroy(w);
+    }
+}
+
+/* ---------------------------------------------------------------- one-way drops */
+
+static void test_drop_through(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 24);
+    for (int x = 0; x < 40; x++) nt_world_set_tile(w, x, 20, NT_TILE_FULL);
+    for (int x = 5; x < 15; x++) {
+        nt_world_set_tile(w, x, 12, NT_TILE_HALFu);
+        assert_int_equal(nt_world_set_cell_flags(w, x, 12, NT_CELL_ONE_WAY), NT_OK);
+    }
+    nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 10 * CELL, 12 * CELL - 24 - 2);
+    pad p;
+    memset(&p, 0, sizeof p);
+    /* Standing on the one-way floor for 2 s: it holds. */
+    for (int k = 0; k < 120; k++) tick(w, id, &p, 0, false);
+    assert_true(p.r.on_floor);
+    assert_true(fabs((double)nt_body_get_position(w, id).y - (12 * CELL - 24)) < 0.01 * CELL);
+    /* Asked to drop: through it onto the floor below. */
+    assert_int_equal(nt_character_drop_through(w, id), NT_OK);
+    for (int k = 0; k < 120; k++) tick(w, id, &p, 0, false);
+    assert_true(p.r.on_floor);
+    assert_true(fabs((double)nt_body_get_position(w, id).y - (20 * CELL - 24)) < 0.01 * CELL);
+    /* Jumping up through it from below and landing on it again. */
+    double top = 1e9;
+    for (int k = 0; k < 120; k++) {
+        tick(w, id, &p, 0, k == 0);
+        top = fmin(top, (double)nt_body_get_position(w, id).y);
+    }
+    (void)top;
+    nt_world_destroy(w);
+}
+
+/* ---------------------------------------------------------------- bad input */
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(20, 12);
+    nt_body_def d = nt_default_body_def();
+    d.type = NT_BODY_STATIC;
+    d.position = nt_v2(100, 100);
+    nt_body_id st;
+    assert_int_equal(nt_body_create(w, &d, &st), NT_OK);
+    nt_character_def cd = nt_default_character_def();
+    assert_int_equal(nt_character_create(w, st, &cd), NT_ERR_INVALID_ARGUMENT);
+    nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 200, 100);
+    uint64_t h0 = nt_world_hash(w);
+    nt_character_result r;
+    assert_int_equal(nt_character_move(w, id, nt_v2((nt_real)NAN, 0), DT, &r), NT_ERR_NON_FINITE);
+    assert_int_equal(nt_character_move(w, id, nt_v2(0, (nt_real)INFINITY), DT, &r), NT_ERR_NON_FINITE);
+    assert_int_equal(nt_character_move(w, id, nt_v2(1, 0), (nt_real)NAN, &r), NT_ERR_NON_FINITE);
+    assert_int_equal(nt_character_move(w, id, nt_v2(1, 0), 0, &r), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_character_move(w, id, nt_v2(1, 0), -1, &r), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_character_move(w, st, nt_v2(1, 0), DT, &r), NT_ERR_INVALID_ID);
+    assert_int_equal(nt_character_move(w, id, nt_v2(1, 0), DT, NULL), NT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(nt_character_move(NULL, id, nt_v2(1, 0), DT, &r), NT_ERR_INVALID_ARGUMENT);
+    assert_true(nt_world_hash(w) == h0);
+    cd.max_slides = 0;
+    assert_int_equal(nt_character_create(w, id, &cd), NT_ERR_INVALID_ARGUMENT);
+    cd = nt_default_character_def();
+    cd.snap_cells = (nt_real)NAN;
+    assert_int_equal(nt_character_create(w, id, &cd), NT_ERR_NON_FINITE);
+    /* The body keeps its own type; destroying the character gives it back. */
+    assert_int_equal(nt_body_get_type(w, id), NT_BODY_DYNAMIC);
+    assert_true(nt_character_is_valid(w, id));
+    assert_int_equal(nt_character_destroy(w, id), NT_OK);
+    assert_false(nt_character_is_valid(w, id));
+    assert_int_equal(nt_character_move(w, id, nt_v2(1, 0), DT, &r), NT_ERR_INVALID_ID);
+    nt_world_destroy(w);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_slopes_run_down_and_up),
+        cmocka_unit_test(test_floor_angle_classification),
+        cmocka_unit_test(test_step_up),
+        cmocka_unit_test(test_rides_platforms),
+        cmocka_unit_test(test_drop_through),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
