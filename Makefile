@@ -193,7 +193,7 @@ valgrind:
 	  else fail=$$((fail+1)); tail -30 $$t.vg.log; echo "FAILED: $$t"; fi; \
 	done; echo "valgrind: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
 
-# The golden world hash (test_world) and every replay's hashes (tests/replays/*.ntr,
+# The golden world hashes (test_world, and test_character's scripted run) and every replay's hashes (tests/replays/*.ntr,
 # one per scalar type) must come out of gcc and clang at -O0, -O2 and -O3, in both
 # scalar builds: each configuration is built and checked against the same goldens.
 DET_CCS ?= gcc clang
@@ -201,10 +201,12 @@ DET_OPTS ?= -O0 -O2 -O3
 determinism:
 	@set -e; for cc in $(DET_CCS); do for o in $(DET_OPTS); do for d in 0 1; do \
 	  b=build/det/$$cc$$o-$$d; \
-	  $(MAKE) --no-print-directory -s BUILD=$$b CC=$$cc OPT=$$o NT_DOUBLE=$$d $$b/tests/test_world $$b/ntile >/dev/null; \
+	  $(MAKE) --no-print-directory -s BUILD=$$b CC=$$cc OPT=$$o NT_DOUBLE=$$d $$b/tests/test_world $$b/tests/test_character $$b/ntile >/dev/null; \
 	  printf '%-6s %-4s %-6s ' $$cc $$o $$( [ $$d = 1 ] && echo double || echo float ); \
-	  $$b/tests/test_world 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/test_world; exit 1; }; \
-	  printf '%s, ' "$$($$b/tests/test_world 2>&1 | grep 'golden hash')"; \
+	  for t in test_world test_character; do \
+	    $$b/tests/$$t 2>&1 | grep -q '^\[  PASSED  \]' || { echo FAILED; $$b/tests/$$t; exit 1; }; \
+	    printf '%s, ' "$$($$b/tests/$$t 2>&1 | grep 'golden hash')"; \
+	  done; \
 	  $$b/ntile run tests/replays/*.ntr > $$b/replays.log 2>&1 || { echo "replays FAILED"; cat $$b/replays.log; exit 1; }; \
 	  tail -1 $$b/replays.log; \
 	done; done; done

@@ -355,6 +355,82 @@ static void test_bad_input(void **state)
     nt_world_destroy(w);
 }
 
+/* ---------------------------------------------------------------- determinism */
+
+/* A scripted 2,000-tick run: three characters (one kinematic) running, jumping and
+ * dropping over slopes, a step, a one-way floor and a lift, pushing crates. The same
+ * inputs give the same bits (twice here; `make determinism` checks the golden hash
+ * under gcc and clang at -O0, -O2 and -O3, float and double). */
+static uint64_t scripted_run(void)
+{
+    nt_world *w = make_world(SW, SH);
+    int foot = build_slope(w, 45, 3);
+    for (int x = foot + 6; x < foot + 9; x++) nt_world_set_tile(w, x, SF - 1, NT_TILE_HALFd);
+    for (int x = 50; x < 58; x++) {
+        nt_world_set_tile(w, x, 10, NT_TILE_HALFu);
+        nt_world_set_cell_flags(w, x, 10, NT_CELL_ONE_WAY);
+    }
+    nt_world_set_tile(w, 70, SF - 1, NT_TILE_22DEGnnS);
+    nt_world_set_tile(w, 71, SF - 1, NT_TILE_22DEGnnB);
+    for (int x = 72; x < SW; x++) nt_world_set_tile(w, x, SF - 1, NT_TILE_FULL);
+    nt_body_def ld = nt_default_body_def();
+    ld.type = NT_BODY_KINEMATIC;
+    ld.shape = nt_shape_aabb((nt_real)(1.5 * CELL), (nt_real)(CELL / 4));
+    ld.position = nt_v2((nt_real)(45 * CELL), (nt_real)(14 * CELL));
+    nt_body_id lift;
+    assert_int_equal(nt_body_create(w, &ld, &lift), NT_OK);
+    nt_body_def cd = nt_default_body_def();
+    cd.shape = nt_shape_aabb(10, 10);
+    for (int k = 0; k < 4; k++) {
+        cd.position = nt_v2((nt_real)((30 + 5 * k) * CELL), (nt_real)((SF - 1) * CELL));
+        nt_body_id crate;
+        assert_int_equal(nt_body_create(w, &cd, &crate), NT_OK);
+    }
+    nt_body_id ch[3] = {add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 8 * CELL, (SF - 3) * CELL - 25),
+                        add_character(w, NT_BODY_KINEMATIC, nt_shape_aabb(8, 16), 12 * CELL, (SF - 3) * CELL - 17),
+                        add_character(w, NT_BODY_DYNAMIC, nt_shape_circle(11), 60 * CELL, SF * CELL - 12)};
+    pad p[3];
+    memset(p, 0, sizeof p);
+    uint32_t rng = 12345;
+    for (int t = 0; t < 2000; t++) {
+        double ls = 60 * sin(t * 0.02);
+        nt_body_set_velocity(w, lift, nt_v2(0, (nt_real)ls));
+        for (int k = 0; k < 3; k++) {
+            rng = rng * 1664525u + 1013904223u;
+            double dir = ((t / (200 + 50 * k)) % 2) ? -1 : 1;
+            bool jump = (rng >> 24) < 6;
+            if ((rng >> 20) % 97 == 0) nt_character_drop_through(w, ch[k]);
+            p[k].v.x = (nt_real)(dir * (120 + 40 * k));
+            p[k].v.y += (nt_real)(G * (double)DT);
+            if (jump && p[k].r.on_floor) p[k].v.y = (nt_real)-380;
+            assert_int_equal(nt_character_move(w, ch[k], p[k].v, DT, &p[k].r), NT_OK);
+            p[k].v = p[k].r.velocity;
+        }
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        for (int k = 0; k < 3; k++) {
+            nt_vec2 q = nt_body_get_position(w, ch[k]);
+            assert_true((double)nt_map_overlap_depth(nt_world_get_map(w), q, nt_body_get_shape(w, ch[k])) < 1e-3 * CELL);
+        }
+    }
+    uint64_t h = nt_world_hash(w);
+    nt_world_destroy(w);
+    return h;
+}
+
+static void test_scripted_run_golden_hash(void **state)
+{
+    (void)state;
+    uint64_t h = scripted_run();
+    assert_true(scripted_run() == h);
+    printf("character golden hash (%s): 0x%016llx\n", NT_REAL_IS_DOUBLE ? "double" : "float", (unsigned long long)h);
+#if NT_REAL_IS_DOUBLE
+    const uint64_t golden = 0x3188f3ead9541d35ull;
+#else
+    const uint64_t golden = 0x21047dbaa2c0f697ull;
+#endif
+    assert_true(h == golden);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -364,6 +440,7 @@ int main(void)
         cmocka_unit_test(test_rides_platforms),
         cmocka_unit_test(test_drop_through),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_scripted_run_golden_hash),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
