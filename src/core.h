@@ -315,6 +315,7 @@ struct nt_world {
     nt_material materials[NT_MAX_MATERIALS];
     nt_world_def def;
     nt_real cell, inv_cell, prev_dt;
+    nt_real floor_cos;         /* cos(def.floor_angle): the tile-contact summary's floor test */
 
     nt__body *bodies;
     nt__body_cold *cold;

@@ -68,6 +68,7 @@ nt_world_def nt_default_world_def(void)
     d.sleep_speed = 6;
     d.sleep_time = R(0.5);
     d.max_cells_per_step = 4;
+    d.floor_angle = R(0.87266462599716477); /* 50 degrees */
     d.velocity_iterations = 8;
     d.position_iterations = 4;
     d.body_capacity = 64;
@@ -78,8 +79,10 @@ nt_world_def nt_default_world_def(void)
 static nt_status check_world_def(const nt_world_def *d)
 {
     if (!finite2(d->gravity) || !nt__finite(d->restitution_threshold) || !nt__finite(d->hit_event_threshold) ||
-        !nt__finite(d->sleep_speed) || !nt__finite(d->sleep_time) || !nt__finite(d->max_cells_per_step))
+        !nt__finite(d->sleep_speed) || !nt__finite(d->sleep_time) || !nt__finite(d->max_cells_per_step) ||
+        !nt__finite(d->floor_angle))
         return NT_ERR_NON_FINITE;
+    if (d->floor_angle < 0 || d->floor_angle > R(1.5707963267948966)) return NT_ERR_INVALID_ARGUMENT;
     if (d->friction_model != NT_FRICTION_N && d->friction_model != NT_FRICTION_COULOMB) return NT_ERR_INVALID_ARGUMENT;
     nt_status s = check_material(d, d->tile_material);
     if (s != NT_OK) return s;
@@ -162,6 +165,7 @@ nt_status nt_world_create(const nt_world_def *def, nt_world **out)
         return s;
     }
     w->def = *def;
+    w->floor_cos = (nt_real)cos((double)def->floor_angle);
     w->cell = w->map->cell;
     w->inv_cell = w->map->inv_cell;
     for (int i = 0; i < NT_MAX_MATERIALS; i++) w->materials[i] = def->tile_material;
@@ -1024,14 +1028,17 @@ nt_status nt_body_get_tile_contacts(const nt_world *w, nt_body_id id, nt_body_ti
         out->contacts[k].depth = t->depth;
         out->contacts[k].cell_x = t->cx;
         out->contacts[k].cell_y = t->cy;
-        if (t->n.y <= R(-0.5)) {
+        if (t->n.y <= -w->floor_cos) {
             /* The flattest floor wins. */
             if (!out->on_floor || t->n.y < out->floor_normal.y) out->floor_normal = t->n;
             out->on_floor = true;
+        } else if (t->n.y >= w->floor_cos) {
+            out->on_ceiling = true;
+        } else if (t->n.x > 0) {
+            out->wall_left = true;
+        } else {
+            out->wall_right = true;
         }
-        if (t->n.y >= R(0.5)) out->on_ceiling = true;
-        if (t->n.x >= R(0.5)) out->wall_left = true;
-        if (t->n.x <= R(-0.5)) out->wall_right = true;
     }
     return NT_OK;
 }

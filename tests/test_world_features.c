@@ -666,6 +666,8 @@ static void test_tile_contact_summary(void **state)
         assert_true(fabs((double)t.floor_normal.y + 0.70710678) < 1e-5);
     }
     assert_true(t.on_floor);
+    /* 45 degrees is a floor only (the default floor angle is 50 degrees), not a wall. */
+    assert_false(t.wall_left || t.wall_right);
     /* Gravity up: the border above the map is the ceiling. */
     nt_world_set_gravity(w, nt_v2(0, -10));
     for (int i = 0; i < 120; i++) nt_world_step(w, DT);
@@ -673,6 +675,59 @@ static void test_tile_contact_summary(void **state)
     assert_true(t.on_ceiling && !t.on_floor);
     assert_true(fabs((double)nt_body_get_position(w, a).y - 0.3) < 1e-3);
     nt_world_destroy(w);
+}
+
+/* The floor angle decides floor / wall / ceiling: a box resting in a 45-degree V (two
+ * slopes) is on a floor with 50 degrees, against two walls with 40; a 63.4-degree slope
+ * is a wall by default, a floor with 70 degrees. Out-of-range angles are refused. */
+static void test_floor_angle(void **state)
+{
+    (void)state;
+    const double angles[3] = {50, 40, 70};
+    for (int k = 0; k < 3; k++) {
+        nt_world_def d = nt_default_world_def();
+        d.map.width = 12;
+        d.map.height = 10;
+        d.map.cell_size = 1;
+        d.gravity = nt_v2(0, 10);
+        d.friction_model = NT_FRICTION_COULOMB;
+        d.tile_material.friction = R(1.2);
+        d.floor_angle = (nt_real)(angles[k] * 3.14159265358979 / 180);
+        nt_world *w = NULL;
+        assert_int_equal(nt_world_create(&d, &w), NT_OK);
+        fill(w, 0, 9, 11, 9, NT_TILE_FULL);
+        nt_world_set_tile(w, 2, 8, NT_TILE_45DEGpn); /* a V: down to the right, then up */
+        nt_world_set_tile(w, 3, 8, NT_TILE_45DEGnn);
+        nt_world_set_tile(w, 8, 8, NT_TILE_67DEGnnB); /* 63.4 degrees rising to the right */
+        nt_world_set_tile(w, 8, 7, NT_TILE_67DEGnnS);
+        nt_body_id v = add(w, dyn(nt_shape_aabb(R(0.2), R(0.2)), 3, 7.9));
+        spec ss = dyn(nt_shape_aabb(R(0.1), R(0.1)), 8.45, 8.0);
+        ss.friction = 1.2;
+        nt_body_id st = add(w, ss);
+        for (int i = 0; i < 60; i++) nt_world_step(w, DT);
+        nt_body_tile_contacts t;
+        assert_int_equal(nt_body_get_tile_contacts(w, v, &t), NT_OK);
+        assert_int_equal(t.count, 2);
+        if (angles[k] >= 45) assert_true(t.on_floor && !t.wall_left && !t.wall_right);
+        else assert_true(!t.on_floor && t.wall_left && t.wall_right);
+        assert_int_equal(nt_body_get_tile_contacts(w, st, &t), NT_OK);
+        assert_true(t.count >= 1);
+        int steep = 0;
+        for (int c = 0; c < t.count; c++) steep |= t.contacts[c].normal.y > R(-0.5);
+        assert_true(steep); /* it rests on the steep slope */
+        if (angles[k] >= 63.5) assert_true(t.on_floor);
+        else assert_true(t.wall_right);
+        nt_world_destroy(w);
+    }
+    nt_world_def d = nt_default_world_def();
+    nt_world *w = NULL;
+    d.floor_angle = R(-0.1);
+    assert_int_equal(nt_world_create(&d, &w), NT_ERR_INVALID_ARGUMENT);
+    d.floor_angle = R(1.6);
+    assert_int_equal(nt_world_create(&d, &w), NT_ERR_INVALID_ARGUMENT);
+    d.floor_angle = (nt_real)NAN;
+    assert_int_equal(nt_world_create(&d, &w), NT_ERR_NON_FINITE);
+    assert_null(w);
 }
 
 /* ---------------------------------------------------------------- body contacts */
@@ -774,6 +829,7 @@ int main(void)
         cmocka_unit_test(test_kinematic_carries_riders),
         cmocka_unit_test(test_cell_materials),
         cmocka_unit_test(test_tile_contact_summary),
+        cmocka_unit_test(test_floor_angle),
         cmocka_unit_test(test_body_contact_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

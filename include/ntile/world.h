@@ -131,6 +131,7 @@ typedef struct nt_world_def {
     nt_real max_cells_per_step;       ///< speed limit in cells per step, in [1, 16]
     int velocity_iterations;          ///< body-contact velocity iterations, 1..64
     int position_iterations;          ///< body-overlap position iterations, 0..64
+    nt_real floor_angle;              ///< radians in [0, pi/2]: steepest tile surface nt_body_get_tile_contacts calls a floor (default 50 degrees)
     int body_capacity;                ///< bodies to reserve room for (grows as needed)
     void *user_data;
 } nt_world_def;
@@ -333,9 +334,11 @@ void *nt_body_get_user_data(const nt_world *world, nt_body_id id);
 /// Set the user pointer.
 nt_status nt_body_set_user_data(nt_world *world, nt_body_id id, void *user_data);
 
-/// What a body touched in the tiles during the last step. "Floor" is a surface whose
-/// normal has y <= -0.5 (slopes up to 60 degrees), "ceiling" y >= 0.5; a wall on the
-/// left pushes to the right (normal x >= 0.5), on the right to the left.
+/// What a body touched in the tiles during the last step. Each surface is one of: a
+/// floor (its normal within the world's floor_angle of straight up: by default slopes
+/// up to 50 degrees, so 45 is a floor and 63.4 a wall), a ceiling (within floor_angle
+/// of straight down), or a wall: on the left when it pushes to the right (normal x > 0),
+/// on the right otherwise.
 typedef struct nt_body_tile_contacts {
     bool on_floor;
     nt_vec2 floor_normal; ///< the floor's normal when on_floor, else (0, 0)
