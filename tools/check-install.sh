@@ -57,27 +57,36 @@ case " $cflags " in *" -I$inc "*) ok ;; *) bad "cflags '$cflags' lack -I$inc" ;;
 case " $libs " in *" -L$lib "*"-lntile "*) ok ;; *) bad "libs '$libs' lack -L$lib -lntile" ;; esac
 case " $static " in *" -lm "*) ok ;; *) bad "static libs '$static' lack -lm" ;; esac
 
-# The example, as a user builds it, against the shared library ...
-check_run() { # $1 = binary, $2 = what
-    if "$1" >"$tmp/out" 2>"$tmp/err"; then ok; else bad "$2: the example failed"; cat "$tmp/err"; return; fi
-    # The floor's top is at y = 480 and the box's half-height 6; it rests a skin deep.
-    # (The README's shorter example does not print on_floor.)
-    if awk '/^box rests at / { found = 1; x = $4; y = $5; f = NF < 7 ? 1 : $7 }
-            END { exit !(found && x > 99.99 && x < 100.01 && y > 473.99 && y < 474.05 && f == 1) }' "$tmp/out"; then
-        ok; echo "$2: $(tail -n 1 "$tmp/out")"
-    else bad "$2: the box does not rest on the floor"; cat "$tmp/out"; fi
+# Run an example and check its output: $1 = binary, $2 = what, $3 = an awk program
+# that exits 0 when the output is right, $4 = what is wrong when it is not.
+check_run() {
+    if "$1" >"$tmp/out" 2>"$tmp/err"; then ok; else bad "$2: the example failed"; cat "$tmp/err" "$tmp/out"; return; fi
+    if awk "$3" "$tmp/out"; then ok; echo "$2: $(tail -n 1 "$tmp/out")"; else bad "$2: $4"; cat "$tmp/out"; fi
 }
+# The embedding example is a platformer: its player runs down a ramp (floor snap),
+# climbs a half-tile step (step-up), rides a lift, jumps to a one-way platform, drops
+# through it, jumps a pit and reaches the goal; it says so in its last line, with the
+# tick and where it stands. The floor's top is at y = 336, the player's half-height 24:
+# on the floor, its centre is at 312. The line is the same in float and double builds.
+platformer_done='/^platformer: reached the goal at tick / { found = 1; gsub(/,/, ""); n = $7; y = $9; f = $11; s = $13; u = $16 }
+    END { exit !(found && n > 0 && n <= 1500 && y > 311.99 && y < 312.05 && f == 1 && s > 0 && u >= 1) }'
+# The README's example drops a box onto a floor whose top is at y = 480; the box's
+# half-height is 6: it rests a skin deep. (It does not print on_floor.)
+box_rests='/^box rests at / { found = 1; x = $4; y = $5; f = NF < 7 ? 1 : $7 }
+    END { exit !(found && x > 99.99 && x < 100.01 && y > 473.99 && y < 474.05 && f == 1) }'
+
+# The example, as a user builds it, against the shared library ...
 if $CC -std=c11 -Wall -Wextra -Wpedantic -Werror tools/embed-example/embed.c $cflags $libs -o "$tmp/embed" 2>"$tmp/log"; then
     ok
     readelf -d "$tmp/embed" | grep -q 'NEEDED.*\[libntile\.so\.0\]' && ok || bad "the example does not load libntile.so.0"
-    LD_LIBRARY_PATH=$lib check_run "$tmp/embed" "shared"
+    LD_LIBRARY_PATH=$lib check_run "$tmp/embed" "shared" "$platformer_done" "the player does not reach the goal on the floor"
 else bad "building the example against the shared library"; cat "$tmp/log"; fi
 # ... and statically (pkg-config --static adds Libs.private).
 slibs=$(echo " $static " | sed 's/ -lntile / -Wl,-Bstatic -lntile -Wl,-Bdynamic /')
 if $CC -std=c11 -Wall -Wextra -Wpedantic -Werror tools/embed-example/embed.c $cflags $slibs -o "$tmp/embed-static" 2>"$tmp/log"; then
     ok
     readelf -d "$tmp/embed-static" | grep -q 'NEEDED.*libntile' && bad "the static example needs libntile.so" || ok
-    check_run "$tmp/embed-static" "static"
+    check_run "$tmp/embed-static" "static" "$platformer_done" "the player does not reach the goal on the floor"
 else bad "building the example against the static library"; cat "$tmp/log"; fi
 
 # The README's 20-line example, exactly as printed there (the c block after the marker).
@@ -87,7 +96,7 @@ if [ ! -s "$tmp/readme.c" ]; then
     bad "README.md: no C example after '<!-- make check-install builds this example -->'"
 elif $CC -std=c11 -Wall -Wextra -Wpedantic -Werror "$tmp/readme.c" $cflags $libs -o "$tmp/readme" 2>"$tmp/log"; then
     ok
-    LD_LIBRARY_PATH=$lib check_run "$tmp/readme" "README example"
+    LD_LIBRARY_PATH=$lib check_run "$tmp/readme" "README example" "$box_rests" "the box does not rest on the floor"
 else bad "building the README's example"; cat "$tmp/log"; fi
 
 # Uninstall: the staged tree holds exactly the files that were there before.
