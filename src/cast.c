@@ -263,12 +263,12 @@ static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real
 }
 
 /* The segment (cell units) against one body (centre bp, shape bs, cell units). */
-static int body_entry(nt_vec2 bp, nt_shape bs, const seg *s, nt_shape obj, nt_real *t, nt_vec2 *n)
+static int body_entry(nt_vec2 bp, nt_shape bs, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
 {
     if (obj.type == NT_SHAPE_AABB && bs.type == NT_SHAPE_AABB) {
         nt_real hx = obj.half.x + bs.half.x, hy = obj.half.y + bs.half.y;
         nt_real L[4][3] = {{-1, 0, hx - bp.x}, {1, 0, bp.x + hx}, {0, -1, hy - bp.y}, {0, 1, bp.y + hy}};
-        return halfplanes_entry((const nt_real(*)[3])L, 4, s, 0, t, n);
+        return halfplanes_entry((const nt_real(*)[3])L, 4, s, one_way, t, n);
     }
     xings X;
     X.n = 0;
@@ -290,7 +290,7 @@ static int body_entry(nt_vec2 bp, nt_shape bs, const seg *s, nt_shape obj, nt_re
     g.obj = obj;
     g.bp = bp;
     g.bs = bs;
-    return pieces_entry(&X, s, &g, 0, t, n);
+    return pieces_entry(&X, s, &g, one_way, t, n);
 }
 
 /* ------------------------------------------------------------------ the cast */
@@ -488,6 +488,14 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     nt_vec2 p = nt_v2(b->p.x * ic, b->p.y * ic);
     nt_shape bs = nt__body_shape(b);
     bs.half = nt_v2(bs.half.x * ic, bs.half.y * ic);
+    if (b->one_way) {
+        /* A one-way platform the shape overlaps at the start, other than resting on
+         * it from above, is ignored by the whole cast (as one-way cells are), and so
+         * is every one with one_way_off. */
+        if (c->filter->one_way_off) return true;
+        nt_mtv m;
+        if (nt_collide_shapes(c->p0, c->obj, p, bs, &m) && one_way_ignored(m.depth, m.normal, c)) return true;
+    }
     if (bp->start) {
         nt_mtv m;
         if (!nt_collide_shapes(c->p0, c->obj, p, bs, &m)) return true;
@@ -510,7 +518,7 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     s.tiny_per_t = c->tiny_per_t;
     nt_real t;
     nt_vec2 n;
-    if (body_entry(p, bs, &s, c->sweep, &t, &n) && t < c->best.t) {
+    if (body_entry(p, bs, &s, c->sweep, b->one_way, &t, &n) && t < c->best.t) {
         c->best.t = t;
         c->best.n = n;
         c->best.kind = 2;

@@ -290,9 +290,35 @@ static nt_vec2 floor_velocity(const nt_world *w, const nt_character_result *r)
     return w->bodies[r->floor_body.index1 - 1].v;
 }
 
-/* Does the shape at p, grown by a thousandth of a cell, overlap a one-way cell's tile? */
-static int touches_one_way(const nt_world *w, nt_vec2 p, nt_shape s)
+typedef struct one_way_probe {
+    int32_t self;
+    nt_vec2 p;
+    nt_shape s;
+    int found;
+} one_way_probe;
+
+static bool one_way_visit(const nt_world *w, int32_t i, void *ctx)
 {
+    one_way_probe *q = (one_way_probe *)ctx;
+    const nt__body *b = &w->bodies[i];
+    if (i == q->self || !b->one_way) return true;
+    nt_mtv m;
+    q->found = nt_collide_shapes(q->p, q->s, b->p, nt__body_shape(b), &m);
+    return !q->found;
+}
+
+/* Does the shape at p, grown by a thousandth of a cell, overlap a one-way cell's tile
+ * or a one-way body (other than body self)? */
+static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape s)
+{
+    one_way_probe q;
+    q.self = self;
+    q.p = p;
+    q.s = s;
+    q.s.half = nt_v2(s.half.x + w->cell * R(1e-3), s.half.y + w->cell * R(1e-3));
+    q.found = 0;
+    nt__grid_visit(w, nt__sub(p, q.s.half), nt__add(p, q.s.half), one_way_visit, &q);
+    if (q.found) return 1;
     if (!w->oneway_count) return 0;
     nt_real ic = w->inv_cell, g = R(1e-3);
     nt_vec2 c = nt_v2(p.x * ic, p.y * ic), h = nt_v2(s.half.x * ic + g, s.half.y * ic + g);
@@ -354,6 +380,8 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         if (step_up(&m, p, wall, &q)) {
             p = q;
             r.stepped_up = true;
+            /* What stopped it was a step, not a wall: the run goes on. */
+            if (v.x == 0) v.x = velocity.x;
         }
     }
     /* 3. Snap down onto the floor it stood on, unless moving up; else, still standing,
@@ -388,7 +416,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * the next move, not moving up, snaps). */
     if (r.on_floor) v.y = 0;
     /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
-    if (c->dropping && !touches_one_way(w, p, m.shape)) c->dropping = 0;
+    if (c->dropping && !touches_one_way(w, c->body, p, m.shape)) c->dropping = 0;
     /* Back to the body: its place and, for the contact solver, the velocity it moved at. */
     b->p = p;
     b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);

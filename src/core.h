@@ -252,6 +252,7 @@ typedef struct nt__body {
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
     uint8_t glist;             /* NT__LIST_* */
     uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
+    uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];

@@ -350,6 +350,18 @@ static inline int boxes_near(const nt_world *w, nt_vec2 pa, nt_vec2 ha, nt_vec2 
            nt__fabs(dy) < ha.y + hb.y + axis_margin(w, dy, vb.y - va.y);
 }
 
+/* A pair with a one-way platform is a contact only when the other body is above it
+ * (the normal from the platform points up, within 60 degrees) and not sunk into it
+ * deeper than the contact margin: a body passing up through it, or sideways, is let
+ * through. n points from a to b. */
+NT__NOINLINE static int one_way_holds(const nt_world *w, const nt__body *a, const nt__body *b, nt_vec2 n, nt_real depth)
+{
+    if (depth > w->pair_margin) return 0;
+    if (a->one_way && !(n.y <= R(-0.5))) return 0;
+    if (b->one_way && !(n.y >= R(0.5))) return 0;
+    return 1;
+}
+
 /* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
 static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
@@ -367,6 +379,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_real depth;
     /* Sensors only care about real overlap. */
     if (!pair_depth(ba, bb, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
+    if (!sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
     if (w->con_new_count == w->con_new_cap) {
         nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
                                                  w->con_new_count + 1, sizeof *p);

@@ -734,6 +734,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
                (def->shape.half.x > w->cell * R(0.5) || def->shape.half.y > w->cell * R(0.5) ? NT__BF_LARGE : 0);
     b->awake_slot = -1;
     b->sleep_next = -1;
+    b->one_way = def->is_one_way ? 1 : 0;
     b->gcell = -1;
     b->gnext = b->gprev = -1;
     nt__body_cold *c = &w->cold[i];

@@ -316,6 +316,39 @@ static void test_drop_through(void **state)
     nt_world_destroy(w);
 }
 
+/* A one-way kinematic platform (is_one_way): the character jumps up through it from
+ * below and lands on it; standing on it, it drops through only when asked. */
+static void test_one_way_platform_body(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 24);
+    for (int x = 0; x < 40; x++) nt_world_set_tile(w, x, 20, NT_TILE_FULL);
+    nt_body_def pd = nt_default_body_def();
+    pd.type = NT_BODY_KINEMATIC;
+    pd.shape = nt_shape_aabb((nt_real)(3 * CELL), 6);
+    pd.position = nt_v2((nt_real)(20 * CELL), (nt_real)(17 * CELL)); /* a jump rises 3.7 cells */
+    pd.is_one_way = true;
+    nt_body_id plat;
+    assert_int_equal(nt_body_create(w, &pd, &plat), NT_OK);
+    nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 20 * CELL, 20 * CELL - 25);
+    pad p;
+    memset(&p, 0, sizeof p);
+    for (int k = 0; k < 20; k++) tick(w, id, &p, 0, false);
+    assert_true(p.r.on_floor);
+    double top = 1e9;
+    for (int k = 0; k < 120; k++) {
+        tick(w, id, &p, 0, k == 0);
+        top = fmin(top, (double)nt_body_get_position(w, id).y);
+    }
+    assert_true(top < 17 * CELL - 6 - 24); /* it rose above the platform */
+    assert_true(p.r.on_floor && nt_body_id_equals(p.r.floor_body, plat));
+    assert_true(fabs((double)nt_body_get_position(w, id).y - (17 * CELL - 6 - 24)) < 0.01 * CELL);
+    assert_int_equal(nt_character_drop_through(w, id), NT_OK);
+    for (int k = 0; k < 120; k++) tick(w, id, &p, 0, false);
+    assert_true(fabs((double)nt_body_get_position(w, id).y - (20 * CELL - 24)) < 0.01 * CELL);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- bad input */
 
 static void test_bad_input(void **state)
@@ -439,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_step_up),
         cmocka_unit_test(test_rides_platforms),
         cmocka_unit_test(test_drop_through),
+        cmocka_unit_test(test_one_way_platform_body),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_scripted_run_golden_hash),
     };

@@ -730,6 +730,56 @@ static void test_floor_angle(void **state)
     assert_null(w);
 }
 
+/* A one-way kinematic platform (is_one_way): a box thrown up from below passes
+ * through it and lands on it; a box sliding in sideways passes; the same platform
+ * without the flag stops the box from below. */
+static void test_one_way_bodies(void **state)
+{
+    (void)state;
+    for (int flag = 1; flag >= 0; flag--) {
+        nt_world *w = make_world(20, 20, 10, NT_FRICTION_COULOMB, R(0.5));
+        fill(w, 0, 19, 19, 19, NT_TILE_FULL);
+        nt_body_def pd = nt_default_body_def();
+        pd.type = NT_BODY_KINEMATIC;
+        pd.shape = nt_shape_aabb(3, R(0.25));
+        pd.position = nt_v2(10, 10);
+        pd.is_one_way = flag;
+        nt_body_id plat;
+        assert_int_equal(nt_body_create(w, &pd, &plat), NT_OK);
+        spec s = dyn(nt_shape_aabb(R(0.3), R(0.3)), 10, 18.69);
+        s.vy = -16;
+        nt_body_id id = add(w, s);
+        double top = 100;
+        for (int i = 0; i < 200; i++) {
+            nt_world_step(w, DT);
+            top = fmin(top, (double)nt_body_get_position(w, id).y);
+        }
+        nt_vec2 p = nt_body_get_position(w, id);
+        if (flag) {
+            assert_true(top < 9); /* through it from below */
+            assert_true(fabs((double)p.y - (10 - 0.25 - 0.3)) < 2e-3); /* and resting on it */
+        } else {
+            assert_true(top > 10.25 + 0.3 - 0.01); /* stopped under it */
+        }
+        nt_world_destroy(w);
+    }
+    /* Sideways into a one-way platform: passes. */
+    nt_world *w = make_world(20, 20, 0, NT_FRICTION_COULOMB, R(0.5));
+    nt_body_def pd = nt_default_body_def();
+    pd.type = NT_BODY_STATIC;
+    pd.shape = nt_shape_aabb(1, 1);
+    pd.position = nt_v2(10, 10);
+    pd.is_one_way = true;
+    nt_body_id plat;
+    assert_int_equal(nt_body_create(w, &pd, &plat), NT_OK);
+    spec side = dyn(nt_shape_aabb(R(0.2), R(0.2)), 5, 10);
+    side.vx = 6;
+    nt_body_id sid = add(w, side);
+    for (int i = 0; i < 120; i++) nt_world_step(w, DT);
+    assert_true((double)nt_body_get_position(w, sid).x > 14);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- body contacts */
 
 /* nt_body_get_contacts: a box resting on a static slab, a box on it and a circle
@@ -830,6 +880,7 @@ int main(void)
         cmocka_unit_test(test_cell_materials),
         cmocka_unit_test(test_tile_contact_summary),
         cmocka_unit_test(test_floor_angle),
+        cmocka_unit_test(test_one_way_bodies),
         cmocka_unit_test(test_body_contact_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

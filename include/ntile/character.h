@@ -39,8 +39,10 @@
  *  - Pushing: dynamic bodies do not stop a character (unless collide_dynamic); the
  *    world step then pushes those it overlaps out of its way, the character counting as
  *    infinitely heavy (as a kinematic body does). Static and kinematic bodies stop it.
- *  - One-way cells: nt_character_drop_through lets it fall through the one-way floor
- *    it stands on, until it is clear of one-way cells.
+ *  - One-way floors: cells flagged NT_CELL_ONE_WAY and bodies created with is_one_way
+ *    (a one-way kinematic platform) hold it from above only; it jumps up through them.
+ *    nt_character_drop_through lets it fall through the one it stands on, until it is
+ *    clear of every one-way cell and body.
  * While it is a character, the world step treats the body as kinematic and does not move
  * it (no gravity, no tiles: the mover did that); nt_body_get_type still says what it was
  * created as, and nt_character_destroy gives it back to the world step.

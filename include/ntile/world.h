@@ -249,6 +249,8 @@ typedef struct nt_body_def {
     uint32_t mask;         ///< bits it collides with (default all). Two bodies collide when
                            ///< each one's category meets the other's mask. Mask 0: tiles only.
     bool is_sensor;        ///< reports overlaps (sensor events) instead of colliding with bodies
+    bool is_one_way;       ///< a one-way platform: stops bodies (and shape casts) only from above, through a
+                           ///< contact whose normal points up from it, and not while they overlap it
     bool enable_sleep;     ///< may fall asleep (default true)
     bool is_awake;         ///< starts awake (default true)
     bool enable_hit_events;///< report hit events (default true)
