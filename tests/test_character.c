@@ -179,18 +179,24 @@ static void test_slopes_run_down_and_up(void **state)
             }
 }
 
+/* A floor on row SF and a 1 x 2-cell character standing on it at cell 25. */
+static nt_body_id floor_and_character(nt_world *w)
+{
+    for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+    return add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 25 * CELL, SF * CELL - 24 - 1);
+}
+
 /* A 63.4-degree slope is a wall with the default 50-degree floor angle: running into
  * it, the character is against a wall, not on a floor. A 45-degree slope is a floor only. */
 static void test_floor_angle_classification(void **state)
 {
     (void)state;
     nt_world *w = make_world(SW, SH);
-    for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+    nt_body_id id = floor_and_character(w);
     /* A 67-degree slope rising to the right at x = 30 (B then S going up). */
     nt_world_set_tile(w, 30, SF - 1, NT_TILE_67DEGnnB);
     nt_world_set_tile(w, 30, SF - 2, NT_TILE_67DEGnnS);
     for (int y = SF - 2; y < SF; y++) nt_world_set_tile(w, 31, y, NT_TILE_FULL);
-    nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 25 * CELL, SF * CELL - 24 - 1);
     pad p;
     memset(&p, 0, sizeof p);
     int wall = 0;
@@ -215,9 +221,8 @@ static void test_step_up(void **state)
     (void)state;
     for (int full = 0; full < 2; full++) {
         nt_world *w = make_world(SW, SH);
-        for (int x = 0; x < SW; x++) nt_world_set_tile(w, x, SF, NT_TILE_FULL);
+        nt_body_id id = floor_and_character(w);
         for (int x = 30; x < 40; x++) nt_world_set_tile(w, x, SF - 1, full ? NT_TILE_FULL : NT_TILE_HALFd);
-        nt_body_id id = add_character(w, NT_BODY_DYNAMIC, nt_shape_aabb(12, 24), 25 * CELL, SF * CELL - 24 - 1);
         pad p;
         memset(&p, 0, sizeof p);
         int stepped = 0;

@@ -677,6 +677,19 @@ static void test_tile_contact_summary(void **state)
     nt_world_destroy(w);
 }
 
+/* A world definition: cell 1, gravity 10 down, Coulomb friction on the tiles. */
+static nt_world_def coulomb_def(int w, int h, nt_real friction)
+{
+    nt_world_def d = nt_default_world_def();
+    d.map.width = w;
+    d.map.height = h;
+    d.map.cell_size = 1;
+    d.gravity = nt_v2(0, 10);
+    d.friction_model = NT_FRICTION_COULOMB;
+    d.tile_material.friction = friction;
+    return d;
+}
+
 /* The floor angle decides floor / wall / ceiling: a box resting in a 45-degree V (two
  * slopes) is on a floor with 50 degrees, against two walls with 40; a 63.4-degree slope
  * is a wall by default, a floor with 70 degrees. Out-of-range angles are refused. */
@@ -685,13 +698,7 @@ static void test_floor_angle(void **state)
     (void)state;
     const double angles[3] = {50, 40, 70};
     for (int k = 0; k < 3; k++) {
-        nt_world_def d = nt_default_world_def();
-        d.map.width = 12;
-        d.map.height = 10;
-        d.map.cell_size = 1;
-        d.gravity = nt_v2(0, 10);
-        d.friction_model = NT_FRICTION_COULOMB;
-        d.tile_material.friction = R(1.2);
+        nt_world_def d = coulomb_def(12, 10, R(1.2));
         d.floor_angle = (nt_real)(angles[k] * 3.14159265358979 / 180);
         nt_world *w = NULL;
         assert_int_equal(nt_world_create(&d, &w), NT_OK);
@@ -789,13 +796,7 @@ static void test_one_way_bodies(void **state)
 static void test_body_contact_list(void **state)
 {
     (void)state;
-    nt_world_def d = nt_default_world_def();
-    d.map.width = 20;
-    d.map.height = 12;
-    d.map.cell_size = 1;
-    d.gravity = nt_v2(0, 10);
-    d.friction_model = NT_FRICTION_COULOMB;
-    d.tile_material.friction = R(0.5);
+    nt_world_def d = coulomb_def(20, 12, R(0.5));
     d.tile_material.bounce = 0;
     d.restitution_threshold = R(0.5);
     d.sleep_speed = R(0.05);
