@@ -213,8 +213,8 @@ static nt_vec2 slide_motion(const mover *m, nt_vec2 d, nt_vec2 n, int kind)
 }
 
 /* Move from p along d, sliding, at most max_slides casts. Returns the end. *v is slid
- * along every surface met; *blocked_wall tells whether a wall stopped horizontal
- * motion (for the step-up). */
+ * along every surface met; *wall_left_over is the motion a wall stopped, (0, 0) when
+ * none did (for the step-up). */
 static nt_vec2 slide_move(mover *m, nt_vec2 p, nt_vec2 d, nt_vec2 *v, nt_vec2 *wall_left_over)
 {
     nt_vec2 prev_n = nt_v2(0, 0);
@@ -363,6 +363,14 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.r = &r;
     const nt_vec2 p0 = b->p;
     nt_vec2 p = p0;
+    /* Inside the tiles (a tile painted over it, a teleport into a wall): out by the
+     * shortest way first, as the world step would free a body; casts from inside
+     * solid go nowhere. */
+    const nt_map *solid = w->solid ? w->solid : w->map;
+    if (nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
+        nt_resolution res;
+        if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
+    }
     const int was_on_floor = c->on_floor;
     m.on_ground = was_on_floor;
     /* The velocity of the body stood on (a moving platform), if it still lives. */

@@ -214,6 +214,26 @@ static void test_floor_angle_classification(void **state)
     nt_world_destroy(w);
 }
 
+/* A tile painted over a standing character: the next move frees it by the shortest
+ * way (up onto the new tile), and it walks on. */
+static void test_freed_from_painted_tile(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(SW, SH);
+    nt_body_id id = floor_and_character(w);
+    pad p;
+    memset(&p, 0, sizeof p);
+    for (int k = 0; k < 10; k++) tick(w, id, &p, 0, false);
+    nt_world_set_tile(w, 25, SF - 1, NT_TILE_HALFd); /* half a cell into its feet */
+    tick(w, id, &p, 0, false);
+    nt_vec2 q = nt_body_get_position(w, id);
+    assert_true((double)nt_map_overlap_depth(nt_world_get_map(w), q, nt_body_get_shape(w, id)) < 1e-3 * CELL);
+    assert_true(fabs((double)q.y - ((SF - 0.5) * CELL - 24)) < 0.01 * CELL);
+    for (int k = 0; k < 30; k++) tick(w, id, &p, 100, false);
+    assert_true((double)nt_body_get_position(w, id).x > 26 * CELL);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- steps */
 
 static void test_step_up(void **state)
@@ -474,6 +494,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_slopes_run_down_and_up),
         cmocka_unit_test(test_floor_angle_classification),
+        cmocka_unit_test(test_freed_from_painted_tile),
         cmocka_unit_test(test_step_up),
         cmocka_unit_test(test_rides_platforms),
         cmocka_unit_test(test_drop_through),

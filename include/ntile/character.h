@@ -43,6 +43,8 @@
  *    (a one-way kinematic platform) hold it from above only; it jumps up through them.
  *    nt_character_drop_through lets it fall through the one it stands on, until it is
  *    clear of every one-way cell and body.
+ * A character found inside the tiles (one painted over it, a teleport into a wall) is
+ * first freed by the shortest way out (nt_map_resolve; one-way cells do not count).
  * While it is a character, the world step treats the body as kinematic and does not move
  * it (no gravity, no tiles: the mover did that); nt_body_get_type still says what it was
  * created as, and nt_character_destroy gives it back to the world step.
