@@ -23,8 +23,10 @@
  * particles with bodies of the same shape (every body a 0.3 x 0.4 box; the same map,
  * count and placements), run and timed as bench world does (bench_run: 120 steps from
  * the start, sleep on): ns per body-step. The target: a move costs at most CHAR_TARGET
- * times that (PASS/FAIL; the exit status stays 0 either way). For the reader, not the
- * target: the same bodies with sleep off over the characters' window.
+ * times that (PASS/FAIL; the exit status stays 0 either way, 1 when two runs of the
+ * characters differ). For the reader, not the target: the same bodies with sleep off
+ * over the characters' window. The runs of the three are interleaved, each figure the
+ * median of its own runs.
  */
 #include <math.h>
 #include <stdio.h>
@@ -196,61 +198,66 @@ static double char_run(int n, char_counts *count, double *depth, int *deep, int 
 int bench_character(const bench_opts *opts, int nargs, char **args)
 {
     if (!bench_plain_args("character", opts, nargs, args)) return CLI_USAGE;
-    scene ref;
+    /* The reference, and (not the target's reference, for the reader) the same bodies
+     * with sleep off over the characters' window: CHAR_WARM untimed steps, CHAR_STEPS
+     * timed. */
+    scene ref, awake;
     if (!scene_make("particles", CHAR_BODIES, &ref)) return CLI_USAGE;
-    char_scene_shape(&ref);
-    printf("# ntile bench character: %d characters (boxes %.1f x %.1f cell, tiles only) running 2..5 cells/s and "
-           "jumping 1..3 cells\n# on rain's %d x %d map for %d bodies; %d steps of 1/40 s after %d untimed; %s; "
-           "median of %d runs (a noisy host: medians)\n",
-           CHAR_BODIES, 2 * CHAR_HX, 2 * CHAR_HY, ref.width, ref.height, CHAR_BODIES, CHAR_STEPS, CHAR_WARM,
-           SCALAR_NAME, opts->runs);
-    double *per = malloc(sizeof(double) * (size_t)opts->runs);
-    if (!per) {
+    if (!scene_make("particles", CHAR_BODIES, &awake)) {
         scene_free(&ref);
         return CLI_USAGE;
     }
+    char_scene_shape(&ref);
+    char_scene_shape(&awake);
+    awake.sleep = 0;
+    awake.warm_steps = CHAR_WARM;
+    awake.steps = CHAR_STEPS;
+    printf("# ntile bench character: %d characters (boxes %.1f x %.1f cell, tiles only) running 2..5 cells/s and "
+           "jumping 1..3 cells\n# on rain's %d x %d map for %d bodies; %d steps of 1/40 s after %d untimed; %s; "
+           "median of %d runs, interleaved with the references' (a noisy host: medians)\n",
+           CHAR_BODIES, 2 * CHAR_HX, 2 * CHAR_HY, ref.width, ref.height, CHAR_BODIES, CHAR_STEPS, CHAR_WARM,
+           SCALAR_NAME, opts->runs);
+    /* Runs interleaved (a character run, a reference run, a sleep-off run, and again),
+     * so that the host's slower spells fall on all three alike. */
+    double *per = malloc(sizeof(double) * 3 * (size_t)opts->runs);
+    double *per_ref = per + opts->runs, *per_awake = per_ref + opts->runs;
     char_counts first = {0}, count;
     double depth = 0;
-    int deep = 0, outside = 0, same = 1;
-    for (int r = 0; r < opts->runs; r++) {
+    int deep = 0, outside = 0, same = 1, ok = per != NULL, ref_awake = 0;
+    engine_setting none = {"ntile", 0, 0, 1, -1, 0};
+    for (int r = 0; r < opts->runs && ok; r++) {
         per[r] = char_run(CHAR_BODIES, &count, &depth, &deep, &outside);
-        if (per[r] < 0) {
-            free(per);
-            scene_free(&ref);
-            return CLI_USAGE;
-        }
+        run_result a = bench_run(&engine_ntile, &none, &ref, 1, 0), b = bench_run(&engine_ntile, &none, &awake, 1, 0);
+        ok = per[r] >= 0 && a.ok && b.ok;
+        per_ref[r] = a.ns;
+        per_awake[r] = b.ns;
+        ref_awake = a.awake;
         if (r == 0) first = count;
         same &= memcmp(&first, &count, sizeof count) == 0;
     }
+    int ref_steps = ref.steps;
+    scene_free(&ref);
+    scene_free(&awake);
+    if (!ok) {
+        free(per);
+        return CLI_USAGE;
+    }
     double lo, hi, ns = bench_median(per, opts->runs, &lo, &hi);
+    run_result rr = {0}, aw = {0};
+    rr.ns = bench_median(per_ref, opts->runs, &rr.ns_min, &rr.ns_max);
+    aw.ns = bench_median(per_awake, opts->runs, &aw.ns_min, &aw.ns_max);
     free(per);
-    engine_setting none = {"ntile", 0, 0, 1, -1, 0};
-    run_result rr = bench_run(&engine_ntile, &none, &ref, opts->runs, 0);
-    if (!rr.ok) {
-        scene_free(&ref);
-        return CLI_USAGE;
-    }
-    /* Not the target's reference, for the reader: the same bodies with sleep off, over
-     * the characters' window (CHAR_WARM untimed steps, CHAR_STEPS timed). */
-    ref.sleep = 0;
-    ref.warm_steps = CHAR_WARM;
-    ref.steps = CHAR_STEPS;
-    run_result awake = bench_run(&engine_ntile, &none, &ref, opts->runs, 0);
-    if (!awake.ok) {
-        scene_free(&ref);
-        return CLI_USAGE;
-    }
     double ratio = ns / rr.ns;
     printf("%-30s %8.1f ns/move       (%d x %d moves a run; runs %.1f..%.1f)\n", "character move", ns,
            CHAR_BODIES, CHAR_STEPS, lo, hi);
     printf("%-30s %8.1f ns/body-step  (particles, every body a %.1f x %.1f box, %d x %d steps; runs %.1f..%.1f; "
            "awake at the end %d)\n",
-           "reference: particles step", rr.ns, 2 * CHAR_HX, 2 * CHAR_HY, rr.bodies, rr.steps, rr.ns_min,
-           rr.ns_max, rr.awake);
+           "reference: particles step", rr.ns, 2 * CHAR_HX, 2 * CHAR_HY, CHAR_BODIES, ref_steps, rr.ns_min,
+           rr.ns_max, ref_awake);
     printf("%-30s %8.2f x          (target: at most %.0f x)\n", "ratio move / body-step", ratio, CHAR_TARGET);
     printf("# not the reference: particles with sleep off over the characters' %d + %d steps: %.1f ns/body-step "
            "(runs %.1f..%.1f), a move %.2f x that\n",
-           CHAR_WARM, CHAR_STEPS, awake.ns, awake.ns_min, awake.ns_max, ns / awake.ns);
+           CHAR_WARM, CHAR_STEPS, aw.ns, aw.ns_min, aw.ns_max, ns / aw.ns);
     printf("%s: a character move costs %.2f x a particles body-step (target at most %.0f x)\n",
            ratio <= CHAR_TARGET ? "PASS" : "FAIL", ratio, CHAR_TARGET);
     long m = first.moves > 0 ? first.moves : 1;
@@ -262,6 +269,5 @@ int bench_character(const bench_opts *opts, int nargs, char **args)
     printf("# at the end of the runs: deepest overlap with tiles %.2g cell, characters deeper than %g cell %d (of "
            "%d), outside the map %d\n",
            depth, NT_CAST_START_TOLERANCE, deep, CHAR_BODIES * opts->runs, outside);
-    scene_free(&ref);
     return same ? CLI_OK : CLI_INPUT_ERRORS;
 }
