@@ -16,7 +16,8 @@
 #                        example through pkg-config, uninstall
 #   make check-headers   each public header alone as C11 (-Werror) and as C++11
 #   make sheet           regenerate tools/ntile/sheet.svg (the answer key shown in the README)
-#   make bench           the world scenes: ns per body-step and error metrics, scaling
+#   make bench           the world scenes: ns per body-step and error metrics, scaling,
+#                        character moves against a particles body-step
 #   make bench-sweep     run time against error: dt, substeps, iterations, friction model,
 #                        float and double (CSV + SVG in build/sweep/)
 #   make bench-peers     the same scenes in Chipmunk2D 7 and Box2D 2.4 (Debian's
@@ -151,9 +152,10 @@ $(PLAY_BIN): $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(SDL_LIBS) $(LIBS)
 
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
-# (test_bench also with the benchmark's metric, scene, outline and plot code;
+# (test_bench also with the benchmark's metric, scene, outline, plot and character-scene code;
 # test_tiled with the Tiled importer).
-TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o))
+TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o \
+                 bench_character.o engine_ntile.o bench_run.o))
 .SECONDEXPANSION:
 $(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $$(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)
@@ -247,6 +249,7 @@ BENCH_SCENES ?= rain particles giants sparse pile asleep slide bounce gas inclin
 bench: $(BUILD)/ntile
 	$(BUILD)/ntile bench world $(BENCH_SCENES) --runs $(RUNS)
 	$(BUILD)/ntile bench scaling --runs $(RUNS)
+	$(BUILD)/ntile bench character --runs $(RUNS)
 
 # The sweep needs both scalar types: each binary measures its own points, then the
 # float one merges the CSVs, finds the Pareto front and draws the SVG.

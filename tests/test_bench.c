@@ -1,5 +1,6 @@
 /* The benchmark's own code: error metrics against hand-computed values, scenes
- * (deterministic, well-formed), the tile outlines given to peer engines, the Pareto
+ * (deterministic, well-formed), the character scene of bench character (it runs,
+ * jumps, turns, stays out of solid), the tile outlines given to peer engines, the Pareto
  * front, CSV splitting and the SVG writer. No timing here: speed figures live in the
  * benchmarks only. */
 #include <stdarg.h>
@@ -11,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bench_character.h"
 #include "geometry.h"
 #include "metrics.h"
 #include "plot.h"
@@ -207,6 +209,47 @@ static void test_scenes(void **state)
     assert_false(scene_make("nosuch", 0, &s));
 }
 
+/* The character scene, small: 50 characters on rain's map for 50 bodies, 200 steps
+ * (5 s). Every step, none is in solid by NT_CAST_START_TOLERANCE (1e-3 cell) or more
+ * and every centre is inside the map; over the run they jump, land, turn at walls,
+ * spend part of the time on floors and part in the air, snap and step up; a second run
+ * is the same to the bit. */
+static void test_character_scene(void **state)
+{
+    (void)state;
+    enum { N = 50, STEPS = 200 };
+    char_scene a, b;
+    assert_true(char_scene_make(N, &a));
+    assert_true(char_scene_make(N, &b));
+    assert_int_equal(a.s.nbodies, N);
+    for (int k = 0; k < STEPS; k++) {
+        assert_true(char_scene_step(&a, NULL));
+        double t = 0;
+        assert_true(char_scene_step(&b, &t));
+        assert_true(t > 0);
+        double depth = 0;
+        int deep = 0, outside = 0;
+        char_scene_check(&a, &depth, &deep, &outside);
+        if (deep || depth >= NT_CAST_START_TOLERANCE || outside)
+            fail_msg("step %d: deepest overlap %g cell (%d characters deeper than %g), %d outside the map", k, depth,
+                     deep, NT_CAST_START_TOLERANCE, outside);
+    }
+    const char_counts *c = &a.count;
+    assert_int_equal(c->moves, (long)N * STEPS);
+    assert_true(c->jumps >= N);        /* about one a character every 1..2 s on a floor */
+    assert_true(c->landings >= c->jumps / 2);
+    assert_true(c->reversals >= N / 2);
+    assert_true(c->on_floor > c->moves / 5 && c->on_floor < c->moves * 4 / 5);
+    assert_true(c->snaps > 0 && c->step_ups > 0);
+    assert_memory_equal(&a.count, &b.count, sizeof a.count);
+    for (int i = 0; i < N; i++) {
+        nt_vec2 pa = nt_body_get_position(a.world, a.ids[i]), pb = nt_body_get_position(b.world, b.ids[i]);
+        assert_memory_equal(&pa, &pb, sizeof pa);
+    }
+    char_scene_free(&a);
+    char_scene_free(&b);
+}
+
 /* The outlines given to peer engines: on a map holding every tile, each edge's outside
  * is free space (exact tiles), each loop has at least 3 corners, and a FULL-only map
  * gives exactly the expected rectangles. */
@@ -316,7 +359,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_penetration), cmocka_unit_test(test_tunnelling), cmocka_unit_test(test_energy),
         cmocka_unit_test(test_tracker),     cmocka_unit_test(test_body_overlap), cmocka_unit_test(test_scenes),
-        cmocka_unit_test(test_outlines),    cmocka_unit_test(test_pareto),    cmocka_unit_test(test_csv_split),
+        cmocka_unit_test(test_character_scene), cmocka_unit_test(test_outlines),    cmocka_unit_test(test_pareto),    cmocka_unit_test(test_csv_split),
         cmocka_unit_test(test_svg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

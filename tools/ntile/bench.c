@@ -42,8 +42,7 @@ static double bench_median_ns(const bench_opts *opts, bench_work *work, const vo
         bench_sink += work(ctx, reps);
         per[r] = (bench_now_ns() - t0) / ((double)reps * items);
     }
-    qsort(per, (size_t)opts->runs, sizeof *per, bench_cmp_double);
-    double m = opts->runs % 2 ? per[opts->runs / 2] : (per[opts->runs / 2 - 1] + per[opts->runs / 2]) / 2;
+    double m = bench_median(per, opts->runs, NULL, NULL);
     free(per);
     return m;
 }
@@ -178,6 +177,8 @@ static const bench_scene scenes[] = {
      bench_world},
     {"scaling", "ns per body-step at 1k/10k/100k bodies, memory per body and cell, skipping ratios",
      bench_scaling},
+    {"character", "ns per character move (1,000 running and jumping over rain's map) against a particles body-step",
+     bench_character},
     {"sweep", "run time against error over dt, substeps, iterations, friction model: --out FILE.csv", bench_sweep},
     {"plot", "Pareto front and SVG of sweep CSVs: bench plot FILE.csv... --out PREFIX", bench_plot},
 };

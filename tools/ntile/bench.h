@@ -1,4 +1,4 @@
-/* ntile bench — what the benchmark files share (bench.c, bench_world.c). */
+/* ntile bench — what the benchmark files share (bench.c, bench_world.c, ...). */
 #ifndef NTILE_BENCH_H
 #define NTILE_BENCH_H
 
@@ -17,15 +17,22 @@ typedef struct bench_opts {
 double bench_now_ns(void);
 /* qsort comparison of doubles. */
 int bench_cmp_double(const void *a, const void *b);
+/* Options of a benchmark that takes no words and reports medians: 1 when there are no
+ * words and --runs is at least 5, else 0 with a message on stderr. */
+int bench_plain_args(const char *name, const bench_opts *opts, int nargs, char **args);
+/* The median of v[0..n-1] (n >= 1), which it sorts; *lo and *hi (may be NULL) get the
+ * smallest and largest. */
+double bench_median(double *v, int n, double *lo, double *hi);
 /* splitmix64 step, and a uniform double in [lo, hi) from it. */
 uint64_t bench_rng_next(uint64_t *s);
 double bench_rng_range(uint64_t *s, double lo, double hi);
 
 /* `ntile bench world [SCENE...]` (bench_world.c), `scaling` (bench_scaling.c),
- * `sweep` and `plot` (bench_sweep.c). */
+ * `sweep` and `plot` (bench_sweep.c), `character` (bench_character.c). */
 int bench_world(const bench_opts *opts, int nargs, char **args);
 int bench_scaling(const bench_opts *opts, int nargs, char **args);
 int bench_sweep(const bench_opts *opts, int nargs, char **args);
 int bench_plot(const bench_opts *opts, int nargs, char **args);
+int bench_character(const bench_opts *opts, int nargs, char **args);
 
 #endif

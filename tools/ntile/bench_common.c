@@ -1,6 +1,8 @@
 /* ntile bench — helpers shared by the ntile CLI's benchmarks and bench-peers. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <time.h>
 #include "bench.h"
 
@@ -15,6 +17,27 @@ int bench_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+int bench_plain_args(const char *name, const bench_opts *opts, int nargs, char **args)
+{
+    if (nargs > 0) {
+        fprintf(stderr, "ntile bench %s: unexpected argument '%s'\n", name, args[0]);
+        return 0;
+    }
+    if (opts->runs < 5) {
+        fprintf(stderr, "ntile bench %s: --runs must be at least 5 (the figure is a median)\n", name);
+        return 0;
+    }
+    return 1;
+}
+
+double bench_median(double *v, int n, double *lo, double *hi)
+{
+    qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
+    if (lo) *lo = v[0];
+    if (hi) *hi = v[n - 1];
+    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
 /* splitmix64: a fixed seed makes every run time the same placements. */

@@ -76,10 +76,7 @@ run_result bench_run(const engine *e, const engine_setting *set, const scene *s,
         per[r] = elapsed / ((double)(s->nbodies > 0 ? s->nbodies : 1) * (double)(k > 0 ? k : 1));
     }
     if (ok) {
-        qsort(per, (size_t)runs, sizeof *per, bench_cmp_double);
-        res.ns = runs % 2 ? per[runs / 2] : (per[runs / 2 - 1] + per[runs / 2]) / 2;
-        res.ns_min = per[0];
-        res.ns_max = per[runs - 1];
+        res.ns = bench_median(per, runs, &res.ns_min, &res.ns_max);
         if (t) res.m = metrics_get(t);
         res.ok = 1;
     }

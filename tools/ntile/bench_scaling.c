@@ -137,14 +137,7 @@ static double wake_cost(int shelves, int *bodies)
 
 int bench_scaling(const bench_opts *opts, int nargs, char **args)
 {
-    if (nargs > 0) {
-        fprintf(stderr, "ntile bench scaling: unexpected argument '%s'\n", args[0]);
-        return CLI_USAGE;
-    }
-    if (opts->runs < 5) {
-        fprintf(stderr, "ntile bench scaling: --runs must be at least 5 (the figure is a median)\n");
-        return CLI_USAGE;
-    }
+    if (!bench_plain_args("scaling", opts, nargs, args)) return CLI_USAGE;
     printf("# ntile bench scaling: %s, median of %d runs, dt 1/40 s\n", SCALAR_NAME, opts->runs);
     static const int counts[] = {1000, 10000, 100000};
     double lo = 1e300, hi = 0;

@@ -80,14 +80,7 @@ static int scene_errors(const char *name, int n, const sweep_cfg *c, metrics *ou
 
 int bench_sweep(const bench_opts *opts, int nargs, char **args)
 {
-    if (nargs > 0) {
-        fprintf(stderr, "ntile bench sweep: unexpected argument '%s'\n", args[0]);
-        return CLI_USAGE;
-    }
-    if (opts->runs < 5) {
-        fprintf(stderr, "ntile bench sweep: --runs must be at least 5 (the figure is a median)\n");
-        return CLI_USAGE;
-    }
+    if (!bench_plain_args("sweep", opts, nargs, args)) return CLI_USAGE;
     FILE *csv = NULL;
     if (opts->out) {
         csv = fopen(opts->out, "w");
