@@ -65,7 +65,9 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     if (s != NT_OK) return s;
     int32_t i = id.index1 - 1;
     if (w->cold[i].character >= 0) {
-        w->chars[w->cold[i].character].def = *def; /* new settings, same state */
+        nt__character *c = &w->chars[w->cold[i].character];
+        c->def = *def; /* new settings, same state */
+        c->floor_cos = (nt_real)cos((double)def->floor_angle);
         return NT_OK;
     }
     if (b->type == NT_BODY_STATIC || (b->flags & NT__BF_SENSOR)) return NT_ERR_INVALID_ARGUMENT;
@@ -78,6 +80,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     memset(c, 0, sizeof *c);
     c->body = i;
     c->def = *def;
+    c->floor_cos = (nt_real)cos((double)def->floor_angle);
     c->type = b->type;
     c->floor_body = -1;
     w->cold[i].character = w->char_count++;
@@ -359,7 +362,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.filter.accept_context = &m;
     m.filter.one_way_off = c->dropping != 0;
     m.skip_body = -1;
-    m.cos_floor = (nt_real)cos((double)c->def.floor_angle);
+    m.cos_floor = c->floor_cos;
     m.r = &r;
     const nt_vec2 p0 = b->p;
     nt_vec2 p = p0;
@@ -367,7 +370,8 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * shortest way first, as the world step would free a body; casts from inside
      * solid go nowhere. */
     const nt_map *solid = w->solid ? w->solid : w->map;
-    if (nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
+    int checked = c->free_checked && c->free_epoch == w->map_epoch && c->free_p.x == p.x && c->free_p.y == p.y;
+    if (!checked && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
     }
@@ -425,6 +429,19 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     if (r.on_floor) v.y = 0;
     /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
     if (c->dropping && !touches_one_way(w, c->body, p, m.shape)) c->dropping = 0;
+    /* Casts that start resting on a surface are made with the shape shrunk by that
+     * depth: along a curved surface (a quarter pipe) the slides can sink it a little
+     * deeper each time, in float. Past half the resting tolerance it is lifted back
+     * out by the shortest way, so that no move ends deeper than that. */
+    int met = r.slide_count || r.snapped || r.stepped_up || platform.x != 0 || platform.y != 0;
+    if (met && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(0.5 * NT_CAST_START_TOLERANCE)) {
+        nt_resolution res;
+        if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
+    }
+    /* A move from a free place that met nothing ends free: the next move need not ask. */
+    c->free_checked = 1;
+    c->free_epoch = w->map_epoch;
+    c->free_p = p;
     /* Back to the body: its place and, for the contact solver, the velocity it moved at. */
     b->p = p;
     b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);

@@ -271,7 +271,11 @@ typedef struct nt__character {
     int32_t body;
     uint8_t type;              /* the body's own type (dynamic or kinematic); the step sees kinematic */
     uint8_t on_floor, dropping;
+    uint8_t free_checked;      /* free_p was found free of the tiles with the tiles of free_epoch */
     int32_t floor_body;        /* the body stood on at the last move, -1: a tile or none */
+    uint32_t free_epoch;
+    nt_vec2 free_p;
+    nt_real floor_cos;         /* cos(def.floor_angle) */
     uint32_t floor_gen;
     nt_character_def def;
 } nt__character;

@@ -217,7 +217,7 @@ static void test_scenes(void **state)
 static void test_character_scene(void **state)
 {
     (void)state;
-    enum { N = 50, STEPS = 200 };
+    enum { N = 150, STEPS = 200 };
     char_scene a, b;
     assert_true(char_scene_make(N, &a));
     assert_true(char_scene_make(N, &b));
