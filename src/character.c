@@ -147,6 +147,8 @@ static bool stops_character(nt_body_id id, void *ctx)
     const mover *m = (const mover *)ctx;
     int32_t i = id.index1 - 1;
     if (i == m->skip_body) return false;
+    /* Both ways, as the world step pairs bodies: the other must take the character too. */
+    if (!(m->w->bodies[i].mask & m->b->category)) return false;
     if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0) return m->c->def.collide_dynamic;
     return true;
 }
@@ -286,6 +288,46 @@ static int step_up(mover *m, nt_vec2 p, nt_vec2 across, nt_vec2 *out)
     return 1;
 }
 
+typedef struct overlap_probe {
+    mover *m;
+    nt_vec2 p;
+    nt_vec2 push; /* the deepest overlap's way out */
+    nt_real depth;
+} overlap_probe;
+
+static bool overlap_visit(const nt_world *w, int32_t i, void *ctx)
+{
+    overlap_probe *q = (overlap_probe *)ctx;
+    if (i == q->m->c->body || !nt__query_sees(w, i, &q->m->filter)) return true;
+    const nt__body *o = &w->bodies[i];
+    nt_mtv mtv;
+    if (o->one_way || !nt_collide_shapes(q->p, q->m->shape, o->p, nt__body_shape(o), &mtv)) return true;
+    if (mtv.depth > q->depth) {
+        q->depth = mtv.depth;
+        q->push = nt__scale(mtv.normal, mtv.depth);
+    }
+    return true;
+}
+
+/* A body that stops the character and overlaps it more than casts allow (a kinematic
+ * body moved into it, a body placed on it): out by the shortest way, deepest first, a
+ * few times; casts from inside a body go nowhere. */
+static nt_vec2 out_of_bodies(mover *m, nt_vec2 p)
+{
+    const nt_world *w = m->w;
+    for (int k = 0; k < 4; k++) {
+        overlap_probe q;
+        q.m = m;
+        q.p = p;
+        q.push = nt_v2(0, 0);
+        q.depth = w->cell * R(NT_CAST_START_TOLERANCE);
+        nt__grid_visit(w, nt__sub(p, m->shape.half), nt__add(p, m->shape.half), overlap_visit, &q);
+        if (q.push.x == 0 && q.push.y == 0) break;
+        p = nt__add(p, q.push);
+    }
+    return p;
+}
+
 /* The velocity of the floor met, when it is a body. */
 static nt_vec2 floor_velocity(const nt_world *w, const nt_character_result *r)
 {
@@ -348,7 +390,8 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     nt__body *b = &w->bodies[c->body];
     /* The speed limit of the world step. */
     nt_real maxd = w->def.max_cells_per_step * w->cell, sp2 = nt__dot(velocity, velocity);
-    if (!(sp2 * dt * dt <= maxd * maxd)) velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    if (!(sp2 <= NT_REAL_MAX) || !(dt <= maxd)) velocity = nt__clamp_overflow(velocity, maxd / dt);
+    else if (!(sp2 * dt * dt <= maxd * maxd)) velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
     mover m;
     m.w = w;
     m.c = c;
@@ -375,6 +418,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
     }
+    p = out_of_bodies(&m, p);
     const int was_on_floor = c->on_floor;
     m.on_ground = was_on_floor;
     /* The velocity of the body stood on (a moving platform), if it still lives. */
@@ -433,13 +477,14 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * depth: along a curved surface (a quarter pipe) the slides can sink it a little
      * deeper each time, in float. Past half the resting tolerance it is lifted back
      * out by the shortest way, so that no move ends deeper than that. */
-    int met = r.slide_count || r.snapped || r.stepped_up || platform.x != 0 || platform.y != 0;
+    int met = r.slide_count || r.snapped || r.stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
     if (met && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(0.5 * NT_CAST_START_TOLERANCE)) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
+        free_end = nt_map_overlap_depth(solid, p, m.shape) <= w->cell * R(NT_CAST_START_TOLERANCE);
     }
     /* A move from a free place that met nothing ends free: the next move need not ask. */
-    c->free_checked = 1;
+    c->free_checked = (uint8_t)free_end;
     c->free_epoch = w->map_epoch;
     c->free_p = p;
     /* Back to the body: its place and, for the contact solver, the velocity it moved at. */

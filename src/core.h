@@ -350,6 +350,7 @@ struct nt_world {
     int lbase[NT__LEVELS], lw[NT__LEVELS], lh[NT__LEVELS];
     int lcount[NT__LEVELS][2]; /* bodies per level and list */
     int large_count;           /* bodies above half a cell in the grid (all levels >= 1) */
+    int one_way_bodies;        /* live bodies with is_one_way (the pair test asks only then) */
     nt__character *chars;      /* characters (character.c) */
     int char_count, char_cap;
 
@@ -463,6 +464,7 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 
 /* response.c */
 nt_status nt__step(nt_world *w, nt_real dt);
+nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square overflows, at speed vmax */
 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);

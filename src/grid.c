@@ -379,7 +379,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_real depth;
     /* Sensors only care about real overlap. */
     if (!pair_depth(ba, bb, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
-    if (!sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
+    if (w->one_way_bodies && !sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
     if (w->con_new_count == w->con_new_cap) {
         nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
                                                  w->con_new_count + 1, sizeof *p);

@@ -424,6 +424,10 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
 {
     nt_vec2 p = res->push;
     nt_real skin = skin_at(w, b->p);
+    /* A body thinner than two skins would end wholly inside the surface: half its
+     * thickness then. (Never so for bodies of a normal size: their bits are the same.) */
+    nt_real hmin = nt__min(b->half.x, b->half.y);
+    if (skin * 2 > hmin) skin = R(0.5) * hmin;
     if (res->contact_count == 2) {
         /* p' = p - skin * c with c.n1 = c.n2 = 1. Between surfaces facing each other
          * (a pinch: normals more than 120 degrees apart) c is long, and skin * c would
@@ -952,7 +956,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
 
 /* A velocity whose squared length overflows (huge gravity times a huge gravity
  * scale, say): keep its direction at speed vmax; NaN parts become 0. */
-static nt_vec2 clamp_overflow(nt_vec2 v, nt_real vmax)
+nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax)
 {
     nt_real x = v.x == v.x ? v.x : 0, y = v.y == v.y ? v.y : 0;
     if (nt__fabs(x) > NT_REAL_MAX || nt__fabs(y) > NT_REAL_MAX) { /* an infinity: its sign is the direction */
@@ -975,12 +979,12 @@ static void move_bodies(nt_world *w, nt_real dt)
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
         nt_real sp2 = nt__dot(b->v, b->v);
-        if (!(sp2 <= NT_REAL_MAX)) b->v = clamp_overflow(b->v, maxd / dt);
+        if (!(sp2 <= NT_REAL_MAX)) b->v = nt__clamp_overflow(b->v, maxd / dt);
         else if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
         if (b->type == NT_BODY_KINEMATIC) {
             /* A character was moved by nt_character_move: its velocity, that move's,
              * has served the contacts; it does not carry over to the next step. */
-            if (w->cold[i].character >= 0) {
+            if (w->char_count && w->cold[i].character >= 0) {
                 b->v = nt_v2(0, 0);
             } else {
                 b->p.x += b->v.x * dt;

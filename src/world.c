@@ -735,6 +735,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     b->awake_slot = -1;
     b->sleep_next = -1;
     b->one_way = def->is_one_way ? 1 : 0;
+    w->one_way_bodies += b->one_way;
     b->gcell = -1;
     b->gnext = b->gprev = -1;
     nt__body_cold *c = &w->cold[i];
@@ -792,6 +793,7 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     wake_partners(w, i);
     awake_remove(w, i);
     nt__character_remove(w, i);
+    w->one_way_bodies -= b->one_way;
     if (b->gcell >= 0) nt__grid_remove(w, i);
     b->flags = 0;
     b->generation++;

@@ -45,9 +45,13 @@
  *    clear of every one-way cell and body.
  * A character found inside the tiles (one painted over it, a teleport into a wall) is
  * first freed by the shortest way out (nt_map_resolve; one-way cells do not count).
+ * A body that stops it and overlaps it (a kinematic wall moved into it, a body placed on
+ * it) pushes it out by the shortest way at its next move.
  * While it is a character, the world step treats the body as kinematic and does not move
  * it (no gravity, no tiles: the mover did that); nt_body_get_type still says what it was
- * created as, and nt_character_destroy gives it back to the world step.
+ * created as, but impulses are refused (NT_ERR_INVALID_ARGUMENT) and a velocity set with
+ * nt_body_set_velocity only lasts until the next move: the game's velocity is the one it
+ * passes to nt_character_move. nt_character_destroy gives the body back to the world step.
  *
  * A shape cast sweeps a box or circle (half-size up to NT_MAX_HALF_CELLS cells, never
  * rotating) from `pos` along `translation` and reports the first thing it meets: the

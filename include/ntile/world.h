@@ -447,7 +447,7 @@ typedef struct nt_query_filter {
     /// every such body is seen. It must not change the world.
     bool (*accept)(nt_body_id id, void *context);
     void *accept_context; ///< passed to accept
-    bool one_way_off;     ///< shape casts: one-way cells stop nothing (a character dropping through them)
+    bool one_way_off;     ///< shape casts: one-way cells and one-way bodies stop nothing (a character dropping through them)
 } nt_query_filter;
 
 /// All bodies and the tiles, nothing ignored, no callback.

@@ -52,6 +52,16 @@ static double wops_num(wops_in *in, double scale)
     return (double)f; /* NaN, infinities, anything */
 }
 
+/* A vector of two numbers read x first: the two reads are sequenced (the arguments of
+ * one call are not, so nt_v2(wops_num(), wops_num()) reads differently with gcc and
+ * clang, and a fuzz input would mean another program under each). */
+static nt_vec2 wops_vec(wops_in *in, double sx, double sy)
+{
+    nt_real x = (nt_real)wops_num(in, sx);
+    nt_real y = (nt_real)wops_num(in, sy);
+    return nt_v2(x, y);
+}
+
 static int wops_finite2(nt_vec2 v) { return isfinite((double)v.x) && isfinite((double)v.y); }
 
 /* Is there an EMPTY cell within 64 cells (Chebyshev) of the cell nearest to p? */
@@ -122,8 +132,8 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
             double half_y = (sz & 4) ? half : half * (double)(wops_byte(&in) + 1) / 256.0;
             b.shape = (wops_byte(&in) & 1) ? nt_shape_circle((nt_real)half)
                                            : nt_shape_aabb((nt_real)half, (nt_real)half_y);
-            b.position = nt_v2((nt_real)wops_num(&in, mw), (nt_real)wops_num(&in, mh));
-            b.velocity = nt_v2((nt_real)wops_num(&in, 200 * (double)cell), (nt_real)wops_num(&in, 200 * (double)cell));
+            b.position = wops_vec(&in, mw, mh);
+            b.velocity = wops_vec(&in, 200 * (double)cell, 200 * (double)cell);
             b.mass = (nt_real)wops_num(&in, 4);
             b.is_sensor = (wops_byte(&in) & 7) == 0;
             b.category = wops_byte(&in) & 3;
@@ -141,7 +151,7 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
         }
         case 5: case 6: { /* velocity: an error must leave the body as it was */
             nt_vec2 before = nt_body_get_velocity(w, id);
-            nt_vec2 v = nt_v2((nt_real)wops_num(&in, 400 * (double)cell), (nt_real)wops_num(&in, 400 * (double)cell));
+            nt_vec2 v = wops_vec(&in, 400 * (double)cell, 400 * (double)cell);
             if (nt_body_set_velocity(w, id, v) != NT_OK) {
                 nt_vec2 after = nt_body_get_velocity(w, id);
                 if (memcmp(&before, &after, sizeof before) != 0) {
@@ -153,7 +163,7 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
         }
         case 7: { /* position */
             nt_vec2 before = nt_body_get_position(w, id);
-            nt_vec2 p = nt_v2((nt_real)wops_num(&in, mw), (nt_real)wops_num(&in, mh));
+            nt_vec2 p = wops_vec(&in, mw, mh);
             if (nt_body_set_position(w, id, p) != NT_OK) {
                 nt_vec2 after = nt_body_get_position(w, id);
                 if (memcmp(&before, &after, sizeof before) != 0) {
@@ -189,8 +199,8 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
         }
         case 11: { /* queries */
             nt_world_ray_hit hit;
-            nt_vec2 a = nt_v2((nt_real)wops_num(&in, mw), (nt_real)wops_num(&in, mh));
-            nt_vec2 b = nt_v2((nt_real)wops_num(&in, mw), (nt_real)wops_num(&in, mh));
+            nt_vec2 a = wops_vec(&in, mw, mh);
+            nt_vec2 b = wops_vec(&in, mw, mh);
             if (nt_world_raycast(w, a, b, nt_default_query_filter(), &hit) &&
                 (!wops_finite2(hit.point) || !(hit.fraction >= 0 && hit.fraction <= 1))) {
                 snprintf(msg, msglen, "op %d: ray hit with t %g", op, (double)hit.fraction);
@@ -204,21 +214,24 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
             int x = (int)(wops_byte(&in) % (d.map.width + 2)) - 1, y = (int)(wops_byte(&in) % (d.map.height + 2)) - 1;
             nt_world_set_cell_flags(w, x, y, wops_byte(&in) % 3);
             nt_world_set_cell_material(w, x, y, (int)(wops_byte(&in) % 18) - 1);
-            nt_material mat = {(nt_real)wops_num(&in, 1), (nt_real)wops_num(&in, 1)};
+            nt_material mat;
+            mat.friction = (nt_real)wops_num(&in, 1); /* one after the other: the order the bytes are read in */
+            mat.bounce = (nt_real)wops_num(&in, 1);
             nt_world_set_material(w, wops_byte(&in) % 17, mat);
             break;
         }
         case 13: { /* gravity, gravity scale, drag */
-            nt_world_set_gravity(w, nt_v2((nt_real)wops_num(&in, 1000), (nt_real)wops_num(&in, 1000)));
+            nt_world_set_gravity(w, wops_vec(&in, 1000, 1000));
             nt_body_set_gravity_scale(w, id, (nt_real)wops_num(&in, 10));
             nt_body_set_linear_drag(w, id, (nt_real)wops_num(&in, 10));
             break;
         }
         case 14: /* impulses, sleep, filters */
-            nt_body_apply_impulse(w, id, nt_v2((nt_real)wops_num(&in, 100), (nt_real)wops_num(&in, 100)));
+            nt_body_apply_impulse(w, id, wops_vec(&in, 100, 100));
             nt_body_set_awake(w, id, (wops_byte(&in) & 1) != 0);
             nt_body_enable_sleep(w, id, (wops_byte(&in) & 1) != 0);
-            nt_body_set_filter(w, id, wops_byte(&in) & 3, wops_byte(&in) & 3);
+            uint32_t cat = wops_byte(&in) & 3u, mask = wops_byte(&in) & 3u; /* read in this order */
+            nt_body_set_filter(w, id, cat, mask);
             break;
         default: { /* a bulk tile pattern */
             size_t n = (size_t)d.map.width * (size_t)d.map.height;
