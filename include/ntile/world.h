@@ -25,7 +25,8 @@
  *
  * Contacts rest a "skin" deep (2.5e-4 cell; more far from the origin in float), so
  * that a resting contact is found again every step: a body on a floor sits
- * 2.5e-4 cell into it. nt_map_overlap_depth of any body stays below 1e-3 cell.
+ * 2.5e-4 cell into it (a body thinner than two skins, half its thickness).
+ * nt_map_overlap_depth of any body stays below 1e-3 cell.
  *
  * Large bodies: a body above half a cell sits in a coarser level of the loose grid
  * (cells 2, 4 or 8 map cells wide), meets the tiles over every cell its box covers
