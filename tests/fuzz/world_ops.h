@@ -125,11 +125,15 @@ static int world_ops_run(const uint8_t *data, size_t size, char *msg, size_t msg
             nt_body_def b = nt_default_body_def();
             b.type = (nt_body_type)(wops_byte(&in) % 4); /* 3 is not a type */
             /* Mostly up to 0.6 cell (the small-body cap is 0.5); a quarter up to 4.5
-             * cells (the large-body cap is NT_MAX_HALF_CELLS), boxes of unequal halves. */
+             * cells (the large-body cap is NT_MAX_HALF_CELLS); boxes of unequal halves. */
             unsigned sz = wops_byte(&in);
             double half = sz < 192 ? (double)sz / 191.0 * 0.6 * (double)cell
                                    : (double)(sz - 192) / 63.0 * 4.5 * (double)cell;
-            double half_y = (sz & 4) ? half : half * (double)(wops_byte(&in) + 1) / 256.0;
+            /* The other half-size down to a sixteenth of it: thinner, a float body
+             * far from the origin is thinner than the rounding of its own position
+             * (a 1.2e-5-cell plank 16 cells out sank below the map's edge by rounding
+             * alone), which no float engine resolves. */
+            double half_y = (sz & 4) ? half : half * (1.0 + 15.0 * (double)wops_byte(&in) / 255.0) / 16.0;
             b.shape = (wops_byte(&in) & 1) ? nt_shape_circle((nt_real)half)
                                            : nt_shape_aabb((nt_real)half, (nt_real)half_y);
             b.position = wops_vec(&in, mw, mh);
