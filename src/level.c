@@ -259,6 +259,7 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
         !nt__finite(b->drag) || !nt__finite(b->phase) || !fin2(b->repeat_step))
         return "non-finite number";
     if (b->mass <= 0) return "mass must be > 0";
+    if (b->type == NT_BODY_DYNAMIC && !(b->mass >= NT_MIN_MASS && b->mass <= NT_MAX_MASS)) return "mass outside 1e-12 .. 1e12";
     if (b->drag < 0) return "negative drag";
     if ((p = material_problem(lv->friction_model, b->material)) != NULL) return p;
     if (b->path < -1 || b->path >= lv->path_count) return "unknown path";
@@ -1004,7 +1005,13 @@ static nt_status parse_body(parser *P)
         int a = i + 1;
         switch (o) {
         case O_VEL: s = vec_at(P, a, "velocity x", "velocity y", &b.velocity); break;
-        case O_MASS: s = positive_at(P, a, "mass", &b.mass); break;
+        case O_MASS:
+            s = positive_at(P, a, "mass", &b.mass);
+            if (s == NT_OK && !(b.mass >= NT_MIN_MASS && b.mass <= NT_MAX_MASS)) {
+                char q[NT__QUOTE_MAX];
+                s = nt__fail_col(t, t->f[a].col, "mass '%s' is outside 1e-12 .. 1e12", nt__quote(q, t->f[a].s, t->f[a].n));
+            }
+            break;
         case O_MATERIAL:
             material_col = t->f[a].col;
             s = material_at(P, a, "body", &b.material);

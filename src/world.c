@@ -677,6 +677,10 @@ static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
     if (s != NT_OK) return s;
     if (!in_reach(w, d->position) || !fits_placement(w, d->position, d->shape.half)) return NT_ERR_OUT_OF_RANGE;
     if (d->type == NT_BODY_DYNAMIC && d->mass <= 0) return NT_ERR_INVALID_ARGUMENT;
+    /* A denormal mass's inverse overflows the solver's products (positions turned NaN,
+     * found by the world fuzzer): masses are kept within a range whose inverses are
+     * well scaled in float. */
+    if (d->type == NT_BODY_DYNAMIC && !(d->mass >= NT_MIN_MASS && d->mass <= NT_MAX_MASS)) return NT_ERR_OUT_OF_RANGE;
     if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
     return NT_OK;
 }

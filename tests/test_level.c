@@ -352,6 +352,8 @@ static void test_body_errors(void **state)
                 "sensor, no-sleep, asleep, path, phase, score, deadly, template or repeat)");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1 mass 2\n", "t.ntl:6:39: duplicate body option 'mass'");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 0\n", "t.ntl:6:37: mass '0' must be > 0");
+    parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1e-40\n", "t.ntl:6:37: mass '1e-40' is outside 1e-12 .. 1e12");
+    parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 2e12\n", "t.ntl:6:37: mass '2e12' is outside 1e-12 .. 1e12");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 vel 1\n", "t.ntl:6:37: option 'vel' needs 2 values");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 material 2 0\n",
                 "t.ntl:6:41: body friction 2 is above 1, the limit of the N friction model");

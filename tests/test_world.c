@@ -234,6 +234,8 @@ static void test_body_def_errors(void **state)
         {NT_ERR_NON_FINITE, 16},      /* infinite half-size */
         {NT_ERR_OUT_OF_RANGE, 17},    /* beyond NT_WORLD_REACH_CELLS to the left */
         {NT_ERR_OUT_OF_RANGE, 18},    /* far below the map */
+        {NT_ERR_OUT_OF_RANGE, 19},    /* a denormal mass (its inverse overflows: NaN positions) */
+        {NT_ERR_OUT_OF_RANGE, 20},    /* a mass above NT_MAX_MASS */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         nt_body_def d = nt_default_body_def();
@@ -259,6 +261,8 @@ static void test_body_def_errors(void **state)
         case 16: d.shape.half.x = (nt_real)INFINITY; break;
         case 17: d.position.x = R(-NT_WORLD_REACH_CELLS - 0.01); break;
         case 18: d.position.y = R(1e30); break;
+        case 19: d.mass = (nt_real)1.4e-45; break;
+        case 20: d.mass = (nt_real)(NT_MAX_MASS * 2); break;
         }
         nt_body_id id = {7, 7};
         assert_int_equal(nt_body_create(w, &d, &id), cases[k].want);

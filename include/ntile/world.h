@@ -110,6 +110,11 @@ typedef struct nt_material {
 /// map from at most that far.
 #define NT_WORLD_REACH_CELLS 64
 
+/// A dynamic body's mass must lie in [NT_MIN_MASS, NT_MAX_MASS] (else NT_ERR_OUT_OF_RANGE):
+/// the solver multiplies by its inverse, which must stay well scaled in float.
+#define NT_MIN_MASS 1e-12f
+#define NT_MAX_MASS 1e12f
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -263,8 +268,9 @@ nt_body_def nt_default_body_def(void);
 
 /// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
 /// NT_MAX_HALF_CELLS cells), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS
-/// from the map; a body above half a cell not wholly inside the map), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with unequal halves, mass <= 0
-/// for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
+/// from the map; a body above half a cell not wholly inside the map; a dynamic body's mass
+/// outside [NT_MIN_MASS, NT_MAX_MASS]), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
+/// unequal halves, mass <= 0 for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
 /// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
 
