@@ -1007,10 +1007,8 @@ static nt_status parse_body(parser *P)
         case O_VEL: s = vec_at(P, a, "velocity x", "velocity y", &b.velocity); break;
         case O_MASS:
             s = positive_at(P, a, "mass", &b.mass);
-            if (s == NT_OK && !(b.mass >= NT_MIN_MASS && b.mass <= NT_MAX_MASS)) {
-                char q[NT__QUOTE_MAX];
+            if (s == NT_OK && !(b.mass >= NT_MIN_MASS && b.mass <= NT_MAX_MASS))
                 s = nt__fail_col(t, t->f[a].col, "mass '%s' is outside 1e-12 .. 1e12", nt__quote(q, t->f[a].s, t->f[a].n));
-            }
             break;
         case O_MATERIAL:
             material_col = t->f[a].col;
