@@ -405,6 +405,17 @@ static void test_pushed_masks_and_huge_velocity(void **state)
     assert_int_equal(nt_body_create(w, &bd, &ghost), NT_OK);
     for (int k = 0; k < 60; k++) tick(w, id, &p, 150, false);
     assert_true((double)nt_body_get_position(w, id).x > x0 + 5 * CELL);
+    /* A long step (100 s, longer than the limit's 96 units: seconds and units once got
+     * compared) at a small speed moves by speed x dt, not by the speed limit. */
+    {
+        nt_world *v = make_world(SW, SH);
+        nt_body_id c2 = floor_and_character(v);
+        nt_character_result r2;
+        double x2 = (double)nt_body_get_position(v, c2).x;
+        assert_int_equal(nt_character_move(v, c2, nt_v2(R(0.1), 0), 100, &r2), NT_OK);
+        assert_true(fabs((double)r2.position.x - x2 - 10) < 1e-3);
+        nt_world_destroy(v);
+    }
     /* 1e20 units/s: the speed limit's 4 cells in one move. */
     nt_character_result r;
     double before = (double)nt_body_get_position(w, id).x;
