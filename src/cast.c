@@ -301,6 +301,8 @@ typedef struct caster {
     const nt_query_filter *filter;
     nt_vec2 p0, d;             /* cell units */
     nt_shape obj;              /* cell units, as given */
+    nt_vec2 pos;               /* the start and the shape in world units, as given */
+    nt_shape shape;
     nt_shape sweep;            /* the shape swept: obj shrunk by the resting depth */
     nt_real tiny0, tol;        /* rounding at the start, and the resting limit */
     nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
@@ -344,6 +346,17 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
         /* Every way out of this tile alone is a seam: its neighbours, which cover
          * those sides, give the contacts; only a deep overlap counts here. */
         return u.depth <= c->tol ? 0 : NT_REAL_MAX;
+    }
+    /* Resting on a corner where a seam meets an exposed edge (a slope's crest beside a
+     * FULL tile): the way out past the seam is deep, but the shape only touches the
+     * tile (plain depth within the tolerance) and the map as a whole agrees. */
+    if (m.depth > c->tol && u.depth <= c->tol) {
+        nt_resolution res;
+        nt_real tw = c->tol * c->map->cell;
+        if (!nt_map_resolve(c->map, c->pos, c->shape, &res) || nt__dot(res.push, res.push) <= tw * tw) {
+            *n = u.normal;
+            return u.depth;
+        }
     }
     *n = m.normal;
     return m.depth;
@@ -621,6 +634,8 @@ static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_v
     c->d = nt_v2(translation.x * ic, translation.y * ic);
     c->obj = shape;
     c->obj.half = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    c->pos = pos;
+    c->shape = shape;
     return nt__finite(c->p0.x + c->d.x) && nt__finite(c->p0.y + c->d.y);
 }
 

@@ -276,6 +276,7 @@ typedef struct nt__character {
     uint32_t free_epoch;
     nt_vec2 free_p;
     nt_real floor_cos;         /* cos(def.floor_angle) */
+    nt_real floor_tan;         /* tan(def.floor_angle), at most 16: how far the steepest floor falls per unit across */
     uint32_t floor_gen;
     nt_character_def def;
 } nt__character;

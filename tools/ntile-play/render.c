@@ -174,7 +174,15 @@ static void cb_circle(nt_vec2 center, nt_real radius, uint32_t color, void *ctx)
     offset_of(r, center, &dx, &dy, &player);
     double x = sx_of(r, (double)center.x + dx), y = sy_of(r, (double)center.y + dy), rad = (double)radius * r->scale;
     if (r->mode == MODE_BASE) {
-        pg_fill_circle(r->c, x, y, rad, player ? PG_COLOR_PLAYER : PG_BODY_FILL(color));
+        /* A dead player: dark red and crossed out, so that nobody takes it for alive. */
+        int dead = player && r->p->game && !nt_game_get_state(r->p->game).alive;
+        pg_fill_circle(r->c, x, y, rad, !player ? PG_BODY_FILL(color) : dead ? PG_COLOR_PLAYER_DEAD : PG_COLOR_PLAYER);
+        if (dead) {
+            double k = rad * 0.6;
+            int wd = rad > 8 ? 2 : 1;
+            pg_thick_line(r->c, x - k, y - k, x + k, y + k, wd, PG_COLOR_DEAD_MARK);
+            pg_thick_line(r->c, x - k, y + k, x + k, y - k, wd, PG_COLOR_DEAD_MARK);
+        }
     } else if (r->mode == MODE_GIZMO) {
         pg_circle(r->c, x, y, rad, color);
     } else if (r->mode == MODE_SLEEP && color == 0x808080u) {
