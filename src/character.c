@@ -148,7 +148,7 @@ typedef struct mover {
 } mover;
 
 /* Which bodies stop the character: not itself, not sensors (queries never see them),
- * dynamic ones only with collide_dynamic. */
+ * dynamic ones with collide_dynamic or when under its feet. */
 static bool stops_character(nt_body_id id, void *ctx)
 {
     const mover *m = (const mover *)ctx;
@@ -156,7 +156,12 @@ static bool stops_character(nt_body_id id, void *ctx)
     if (i == m->skip_body) return false;
     /* Both ways, as the world step pairs bodies: the other must take the character too. */
     if (!(m->w->bodies[i].mask & m->b->category)) return false;
-    if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0) return m->c->def.collide_dynamic;
+    if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0 && !m->c->def.collide_dynamic) {
+        /* Pushed out of the way, unless wholly below its feet where the move starts:
+         * then it is something to stand on (a crate), not to sink into. */
+        const nt__body *o = &m->w->bodies[i];
+        return o->p.y - o->half.y >= m->b->p.y + m->b->half.y - m->w->cell * R(NT_CAST_START_TOLERANCE);
+    }
     return true;
 }
 

@@ -362,6 +362,21 @@ NT__NOINLINE static int one_way_holds(const nt_world *w, const nt__body *a, cons
     return 1;
 }
 
+/* A character and the dynamic body it stood on at its last move (a crate): the mover
+ * holds it up and carries it along; a contact would squeeze the body between an
+ * infinitely heavy character and what holds it up. */
+NT__NOINLINE static int stands_on(const nt_world *w, int32_t i, int32_t j)
+{
+    for (int s = 0; s < 2; s++) {
+        int32_t c = s ? j : i, o = s ? i : j;
+        int32_t k = w->cold[c].character;
+        if (k >= 0 && w->chars[k].on_floor && w->chars[k].floor_body == o && w->bodies[o].type == NT_BODY_DYNAMIC &&
+            w->bodies[o].generation == w->chars[k].floor_gen)
+            return 1;
+    }
+    return 0;
+}
+
 /* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
 static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
@@ -372,6 +387,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_real margin = w->pair_margin + w->pair_dt * nt__sqrt(dvx * dvx + dvy * dvy);
     if (margin > w->cell) margin = w->cell;
     if (!nt__pair_filter(bi, bj)) return 1;
+    if (w->char_count && stands_on(w, i, j)) return 1;
     int32_t a = i < j ? i : j, b = i < j ? j : i;
     const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
     int sensor = (ba->flags | bb->flags) & NT__BF_SENSOR;

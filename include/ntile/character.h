@@ -41,7 +41,10 @@
  *    off its edge) adds its velocity to the returned velocity.
  *  - Pushing: dynamic bodies do not stop a character (unless collide_dynamic); the
  *    world step then pushes those it overlaps out of its way, the character counting as
- *    infinitely heavy (as a kinematic body does). Static and kinematic bodies stop it.
+ *    infinitely heavy (as a kinematic body does). A dynamic body wholly below its feet
+ *    where a move starts (its top no higher than the character's bottom, within
+ *    NT_CAST_START_TOLERANCE) is the exception: it stands on it (a crate), carried by
+ *    its velocity. Static and kinematic bodies stop it.
  *  - One-way floors: cells flagged NT_CELL_ONE_WAY and bodies created with is_one_way
  *    (a one-way kinematic platform) hold it from above only; it jumps up through them.
  *    nt_character_drop_through lets it fall through the one it stands on, until it is
@@ -146,7 +149,7 @@ typedef struct nt_character_def {
     bool stop_on_slope;            ///< standing still on a slope does not slide down (default true)
     bool constant_speed_on_slopes; ///< motion along a floor keeps its horizontal length (default false)
     bool slide_on_walls;           ///< on a floor, slide along walls met at an angle (default true)
-    bool collide_dynamic;          ///< dynamic bodies stop the character like walls (default false: it pushes them)
+    bool collide_dynamic;          ///< dynamic bodies stop the character like walls (default false: it pushes them, and stands on those under its feet)
     int max_slides;                ///< casts per move, 1..16 (default 4)
 } nt_character_def;
 
