@@ -199,6 +199,7 @@ enum {
     NT__BF_ALIVE = 8,
     NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
     NT__BF_MOVED = 32,     /* scratch: moved by position correction */
+    NT__BF_SHIFT = 32,     /* scratch, velocity solve to move: a time-of-impact shift (response.c) */
     NT__BF_RESTING = 64,   /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
     NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
@@ -432,6 +433,23 @@ void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller 
 void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
 nt_material nt__cell_material(const nt_world *w, int x, int y);
 uint32_t nt__cell_flags(const nt_world *w, int x, int y);
+/* The velocity body b enters this step's contact solve with (dt the step): awake
+ * dynamic bodies get gravity and drag (response.c), the others keep theirs. The pair
+ * search predicts with it whether a gap closes this step, which must be the solve's
+ * own answer: the same arithmetic. */
+static inline nt_vec2 nt__solve_velocity(const nt_world *w, const nt__body *b, nt_real dt)
+{
+    nt_vec2 v = b->v;
+    if (b->type != NT_BODY_DYNAMIC || b->awake_slot < 0) return v;
+    v.x += w->def.gravity.x * b->gravity_scale * dt;
+    v.y += w->def.gravity.y * b->gravity_scale * dt;
+    if (b->drag > 0) {
+        nt_real f = 1 / (1 + b->drag * dt);
+        v.x *= f;
+        v.y *= f;
+    }
+    return v;
+}
 static inline bool nt__body_in_grid(const nt__body *b) { return b->mask != 0 && b->category != 0; }
 static inline nt_shape nt__body_shape(const nt__body *b)
 {

@@ -414,7 +414,11 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
      * event (and the wake-up of a sleeping partner) is not a step late. */
     int touch = depth > (sensor ? 0 : -nt__skin(w, ba->p));
     if (!touch && !sensor) {
-        nt_real vn = (bb->v.x - ba->v.x) * n.x + (bb->v.y - ba->v.y) * n.y;
+        /* With the velocities the solve starts from (this step's gravity included),
+         * so that a gap the solve closes is a touch here too: else a sleeping body
+         * would not be woken, and would stop the other one like a wall. */
+        nt_vec2 va = nt__solve_velocity(w, ba, w->pair_dt), vb = nt__solve_velocity(w, bb, w->pair_dt);
+        nt_real vn = (vb.x - va.x) * n.x + (vb.y - va.y) * n.y;
         touch = vn * w->pair_dt < depth;
     }
     c->flags = ((ba->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_A : 0u) | ((bb->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_B : 0u) |

@@ -751,21 +751,55 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
     return s;
 }
 
+/* Time of impact. A speculative contact that closes its gap this step is answered as a
+ * collision now (the velocities after it), but the bodies only meet at t = gap /
+ * approach speed into the step: up to then each moves with its old velocity, i.e. by
+ * (v_before - v_after) t more than v_after dt. Without it a falling body that meets a
+ * box stops dead up to v dt above it, and a body pushed by a rolling one keeps that
+ * gap. Only for collisions without a bounce: one with a bounce still turns back at
+ * the gap (its time of impact belongs with the bounce work of issue 20, and leaves
+ * the bouncing scenes' figures alone). Not for a body resting on another (a touching
+ * contact): its velocity change holds the weight too, which is no impact. (Tile
+ * contacts are answered before the solve, tile_solve.) Per body in the contacts:
+ * scratch_r[2i] the earliest such t (NT_REAL_MAX: none), scratch_r[2i + 1] 1 when
+ * resting on a body; NT__BF_SHIFT marks the slots in use (then, from the write-back
+ * to the move, the shift itself). */
+static inline void toi_note(nt_world *w, int32_t i, int touch, nt_real toi)
+{
+    nt__body *b = &w->bodies[i];
+    nt_real *s = &w->scratch_r[2 * i];
+    if (!(b->flags & NT__BF_SHIFT)) {
+        b->flags |= NT__BF_SHIFT;
+        s[0] = NT_REAL_MAX;
+        s[1] = 0;
+    }
+    if (touch) s[1] = 1;
+    if (toi >= 0 && toi < s[0]) s[0] = toi;
+}
+
+/* At the write-back of body i's velocity v (the solve's answer): its shift, if any. */
+static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
+{
+    nt__body *b = &w->bodies[i];
+    nt_real *s = &w->scratch_r[2 * i];
+    if (!(b->flags & NT__BF_SHIFT)) return;
+    if (s[0] == NT_REAL_MAX || s[1] != 0 || wi <= 0) {
+        b->flags &= (uint8_t)~NT__BF_SHIFT;
+        return;
+    }
+    nt_real t = s[0];
+    s[0] = (b->v.x - v.x) * t;
+    s[1] = (b->v.y - v.y) * t;
+}
+
 static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 {
     nt_friction_model model = w->def.friction_model;
     /* Gravity and drag. */
-    nt_vec2 g = w->def.gravity;
     for (int k = 0; k < w->awake_count; k++) {
         nt__body *b = &w->bodies[w->awake[k]];
         if (b->type != NT_BODY_DYNAMIC) continue;
-        b->v.x += g.x * b->gravity_scale * dt;
-        b->v.y += g.y * b->gravity_scale * dt;
-        if (b->drag > 0) {
-            nt_real f = 1 / (1 + b->drag * dt);
-            b->v.x *= f;
-            b->v.y *= f;
-        }
+        b->v = nt__solve_velocity(w, b, dt);
         if (b->ntc) tile_solve(w, b);
     }
     if (w->con_count == 0) return;
@@ -789,11 +823,15 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         /* Within the skin: resting or overlapping (position correction takes the
          * overlap). Farther apart: a speculative contact, which may close its gap this
          * step and no more; one that closes it is a collision now, so it bounces with
-         * the full approach speed. */
+         * the full approach speed; without a bounce the bodies travel the gap first
+         * (toi_note, move_dynamic): else they would stop dead at the gap's distance. */
         int touch = c->depth > -nt__skin(w, a->p);
         int hits = touch ? vn0 < 0 : vn0 * dt < c->depth;
         c->bias = touch ? 0 : c->depth / dt;
         if (hits && vn0 < -w->def.restitution_threshold) c->bias = nt__max(c->bias, -c->bounce * vn0);
+        nt_real toi = hits && !touch && vn0 < -w->def.restitution_threshold && c->bounce == 0 ? c->depth / vn0 : -1;
+        toi_note(w, key_a(c->key), touch, toi);
+        toi_note(w, key_b(c->key), touch, toi);
         if (hits && -vn0 >= w->def.hit_event_threshold) hit_event_bodies(w, c, -vn0);
         if (model == NT_FRICTION_N) {
             /* N's rule on the relative velocity, once: lose `friction` of the tangential
@@ -866,6 +904,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             int32_t q = s2 ? c->sb : c->sa;
             if (index[i] != q) continue; /* written back already */
             index[i] = -1;
+            toi_shift(w, i, sv[q].v, sv[q].w);
             w->bodies[i].v = sv[q].v;
         }
     }
@@ -896,6 +935,14 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
 {
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
+    /* The time-of-impact shift (toi_shift), swept with the step's own travel. */
+    int shifted = (b->flags & NT__BF_SHIFT) != 0;
+    nt_vec2 shift = nt_v2(0, 0);
+    if (shifted) {
+        b->flags &= (uint8_t)~NT__BF_SHIFT;
+        shift = nt_v2(w->scratch_r[2 * i], w->scratch_r[2 * i + 1]);
+        disp = nt__add(disp, shift);
+    }
     nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
     int n = 1;
     /* A step longer than the smaller half-size could skip a thin piece of tile. (The
@@ -913,8 +960,8 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
      * the tiles unchanged since: the resolution would give the same answer again (it
      * depends on the position and the tiles only), so keep its contacts as they are.
      * This is what makes bodies resting on tiles cheap. */
-    if (n == 1 && b->v.x == 0 && b->v.y == 0 && (b->flags & NT__BF_RESTING) && b->rest_epoch == w->map_epoch &&
-        b->p.x == b->rest_p.x && b->p.y == b->rest_p.y) {
+    if (n == 1 && !shifted && b->v.x == 0 && b->v.y == 0 && (b->flags & NT__BF_RESTING) &&
+        b->rest_epoch == w->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y) {
         for (int k = 0; k < b->ntc; k++) {
             b->tc[k].lambda = 0;
             b->tc[k].solved = 0;
@@ -926,6 +973,10 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt)
         nt_vec2 p0 = b->p;
         b->p.x += b->v.x * h;
         b->p.y += b->v.y * h;
+        if (shifted) {
+            b->p.x += shift.x / (nt_real)n;
+            b->p.y += shift.y / (nt_real)n;
+        }
         nt_vec2 p1 = b->p;
         nt_resolution res;
         if (!resolve_body(w, b, p0, b->p, &res)) {
