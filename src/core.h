@@ -488,6 +488,20 @@ nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);
 
+/* Bodies a, b (slots ia < ib) at the very same place have no way apart of their own:
+ * each pair takes one of the four axis directions by its slots (n from a to b), so that
+ * a heap of them created at one point bursts apart rather than stacking along one
+ * line; the depth is their overlap along it (grid.c: contacts; response.c: position
+ * correction). */
+static inline void nt__coincident(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_vec2 *n,
+                                  nt_real *depth)
+{
+    static const signed char dirs[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+    uint32_t k = ((uint32_t)ia * 2654435761u ^ (uint32_t)ib * 40503u) >> 7;
+    *n = nt_v2((nt_real)dirs[k & 3][0], (nt_real)dirs[k & 3][1]);
+    *depth = n->x != 0 ? a->half.x + b->half.x : a->half.y + b->half.y;
+}
+
 /* Both bodies of a contact are still the ones it was made for. */
 static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)
 {

@@ -289,10 +289,15 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b)
 /* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
  * measured along an axis or between closest points, never over-estimated. */
-static int pair_depth(const nt__body *a, const nt__body *b, nt_real margin, nt_vec2 *n, nt_real *depth)
+static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
+                      nt_real *depth)
 {
     nt_mtv m;
     if (nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) {
+        if (a->p.x == b->p.x && a->p.y == b->p.y) {
+            nt__coincident(a, b, ia, ib, n, depth);
+            return 1;
+        }
         if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) nt__box_axis(a, b, &m);
         *n = nt_v2(-m.normal.x, -m.normal.y);
         *depth = m.depth;
@@ -394,7 +399,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_vec2 n;
     nt_real depth;
     /* Sensors only care about real overlap. */
-    if (!pair_depth(ba, bb, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
+    if (!pair_depth(ba, bb, a, b, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
     if (w->one_way_bodies && !sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
     if (w->con_new_count == w->con_new_cap) {
         nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,

@@ -627,6 +627,11 @@ static void correct_positions(nt_world *w)
             if (wa + wb <= 0) continue;
             nt_mtv m;
             if (!nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) continue;
+            if (a->p.x == b->p.x && a->p.y == b->p.y) { /* m.normal moves a out of b: -n */
+                nt_vec2 n;
+                nt__coincident(a, b, ia, ib, &n, &m.depth);
+                m.normal = nt_v2(-n.x, -n.y);
+            }
             nt_real d = m.depth - skin_at(w, a->p);
             if (d <= 0) continue;
             /* A body held by a tile surface against this push does not give way: the
