@@ -254,6 +254,7 @@ typedef struct nt__body {
     uint8_t glist;             /* NT__LIST_* */
     uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
     uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
+    uint8_t in_solve;          /* this step's velocity solve has a contact on it (response.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];
