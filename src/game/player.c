@@ -65,7 +65,9 @@ void nt__player_sense(nt_game *g)
      * world's frame; a velocity set there by the game's user replaces the
      * controller's at the next tick (nt__player_control compares). */
     ps->shown = add(ps->vel, ps->on_floor ? ps->move.floor_velocity : nt_v2(0, 0));
-    nt_body_set_velocity(w, id, ps->shown);
+    /* Only when it differs: setting a velocity wakes what the player touches. */
+    nt_vec2 now = nt_body_get_velocity(w, id);
+    if (memcmp(&now, &ps->shown, sizeof now) != 0) nt_body_set_velocity(w, id, ps->shown);
 }
 
 /* The tile bounce behind a surface the move met (normal n), by a short cast back into it. */
