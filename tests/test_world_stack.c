@@ -216,6 +216,54 @@ static void test_falling_column(void **state)
     nt_world_destroy(w);
 }
 
+/* ---------------------------------------------------------------- held by tiles */
+
+/* A small circle on a frictionless 45-degree slope, pressed by gravity into a large
+ * one resting in the V notch at the slope's foot, found 0.1 cell deep in it (as a
+ * sliding circle creeping in ends up). Each is held by a tile surface against the
+ * push that would part them: the small one's centre runs below the large one's, so
+ * that push drives it into its slope, and the large one into the other side of the
+ * V. Position correction splits the push anyway and the tile resolution slides each
+ * along its surface: within 10 steps the pair is back within its skin (2.5e-4 cell)
+ * plus what gravity drives in over a step (g dt^2 = 0.0028 cell). Skipped, as when
+ * both were held it was, the overlap stayed. */
+static void test_pair_held_by_tiles(void **state)
+{
+    (void)state;
+    const int W = 12, H = 10;
+    const double g = 10, dt = (double)DT, ra = 0.2, rb = 0.45, s2 = sqrt(2.0);
+    nt_world *w = make_world(W, H, NT_FRICTION_COULOMB, 0, false);
+    floor_and_walls(w, W, H);
+    /* The V: 45-degree sides meeting at (5, 6), FULL under them. */
+    for (int k = 0; k < 4; k++) {
+        nt_world_set_tile(w, 1 + k, 2 + k, NT_TILE_45DEGpn);
+        nt_world_set_tile(w, 8 - k, 2 + k, NT_TILE_45DEGnn);
+        for (int y = 3 + k; y < H; y++) {
+            nt_world_set_tile(w, 1 + k, y, NT_TILE_FULL);
+            nt_world_set_tile(w, 8 - k, y, NT_TILE_FULL);
+        }
+    }
+    for (int x = 1; x < W - 1; x++)
+        for (int y = 6; y < H; y++) nt_world_set_tile(w, x, y, NT_TILE_FULL);
+    nt_body_id ids[2];
+    ids[1] = add(w, nt_shape_circle(R(rb)), 5, 6 - rb * s2, 4, 0); /* touching both sides */
+    /* On the left side (surface y = x + 1), `up` cells up from the notch: 0.1 cell deep
+     * in the large circle (their centres 0.55 apart). */
+    const double up = 0.66460821304772;
+    ids[0] = add(w, nt_shape_circle(R(ra)), 5 - up + ra / s2, 6 - up - ra / s2, 1, 0);
+    assert_true(fabs(max_pair_overlap(w, ids, 2) - 0.1) < 1e-4);
+    double bound = 2.5e-4 + g * dt * dt, late = 0;
+    for (int s = 0; s < 120; s++) {
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        if (s >= 10) late = fmax(late, max_pair_overlap(w, ids, 2));
+    }
+    printf("  pair held by tiles: worst overlap after 10 steps %.3g cell (bound %.3g), tiles %.3g\n", late, bound,
+           max_tile_overlap(w, ids, 2));
+    assert_true(late < bound);
+    assert_true(max_tile_overlap(w, ids, 2) < 1e-3);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- sleeping */
 
 static void test_sleep_and_wake_on_touch(void **state)
@@ -435,6 +483,7 @@ int main(void)
         cmocka_unit_test(test_stack_of_20),
         cmocka_unit_test(test_pile_of_500),
         cmocka_unit_test(test_falling_column),
+        cmocka_unit_test(test_pair_held_by_tiles),
         cmocka_unit_test(test_sleep_and_wake_on_touch),
         cmocka_unit_test(test_wake_on_tile_edit_and_api),
         cmocka_unit_test(test_sleeping_group),
