@@ -335,10 +335,13 @@ static int pair_depth(const nt__body *a, const nt__body *b, nt_real margin, nt_v
  * stopped: what each travels towards the other (d = b's centre - a's along the axis,
  * va, vb: their velocities along it), at least their closing speed. Two bodies falling
  * together close at 0, yet when this step's solve stops the lower one, the upper one
- * drives into it unless their pair is a contact. */
+ * drives into it unless their pair is a contact. Centres level on the axis: 0 (the
+ * gap of two shapes apart is then measured across it; the same whichever body is a).
+ * Branch-free: s is the sign of d. */
 static inline nt_real axis_reach(nt_real d, nt_real va, nt_real vb)
 {
-    return d > 0 ? nt__max(va, 0) + nt__max(-vb, 0) : nt__max(-va, 0) + nt__max(vb, 0);
+    nt_real s = (nt_real)((d > 0) - (d < 0));
+    return nt__max(s * va, 0) + nt__max(-s * vb, 0);
 }
 
 /* How close a pair must be to become a contact along an axis: the base margin plus the
