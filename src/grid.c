@@ -336,14 +336,26 @@ static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t 
     return 1;
 }
 
-/* How close a pair must be to become a contact: the base margin, plus how far the two
- * close in on each other this step along each axis (speculative contacts: a fast pair
- * is solved before it overlaps, instead of being found already deep inside each
- * other). Only an approach counts. At most one cell: only neighbouring cells are
- * searched. d = b's centre - a's, dv = b's velocity - a's. */
-static inline nt_real axis_margin(const nt_world *w, nt_real d, nt_real dv)
+/* How far a and b can close a gap along an axis this step when either of them is
+ * stopped: what each travels towards the other (d = b's centre - a's along the axis,
+ * va, vb: their velocities along it), at least their closing speed. Two bodies falling
+ * together close at 0, yet when this step's solve stops the lower one, the upper one
+ * drives into it unless their pair is a contact. Centres level on the axis: 0 (the
+ * gap of two shapes apart is then measured across it; the same whichever body is a).
+ * Branch-free: s is the sign of d. */
+static inline nt_real axis_reach(nt_real d, nt_real va, nt_real vb)
 {
-    nt_real m = w->pair_margin + (d * dv < 0 ? nt__fabs(dv) * w->pair_dt : 0);
+    nt_real s = (nt_real)((d > 0) - (d < 0));
+    return nt__max(s * va, 0) + nt__max(-s * vb, 0);
+}
+
+/* How close a pair must be to become a contact along an axis: the base margin plus the
+ * reach (speculative contacts: a fast pair is solved before it overlaps, instead of
+ * being found already deep inside each other). At most one cell: only neighbouring
+ * cells are searched. */
+static inline nt_real axis_margin(const nt_world *w, nt_real d, nt_real va, nt_real vb)
+{
+    nt_real m = w->pair_margin + axis_reach(d, va, vb) * w->pair_dt;
     return m < w->cell ? m : w->cell;
 }
 
@@ -351,8 +363,8 @@ static inline nt_real axis_margin(const nt_world *w, nt_real d, nt_real dv)
 static inline int boxes_near(const nt_world *w, nt_vec2 pa, nt_vec2 ha, nt_vec2 va, nt_vec2 pb, nt_vec2 hb, nt_vec2 vb)
 {
     nt_real dx = pb.x - pa.x, dy = pb.y - pa.y;
-    return nt__fabs(dx) < ha.x + hb.x + axis_margin(w, dx, vb.x - va.x) &&
-           nt__fabs(dy) < ha.y + hb.y + axis_margin(w, dy, vb.y - va.y);
+    return nt__fabs(dx) < ha.x + hb.x + axis_margin(w, dx, va.x, vb.x) &&
+           nt__fabs(dy) < ha.y + hb.y + axis_margin(w, dy, va.y, vb.y);
 }
 
 /* A pair with a one-way platform is a contact only when the other body is above it
@@ -387,9 +399,11 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
     const nt__body *bi = &w->bodies[i], *bj = &w->bodies[j];
     if (!boxes_near(w, bi->p, bi->half, bi->v, bj->p, bj->half, bj->v)) return 1;
-    /* The gap that makes a contact: the base margin plus the closing speed's reach. */
-    nt_real dvx = bj->v.x - bi->v.x, dvy = bj->v.y - bi->v.y;
-    nt_real margin = w->pair_margin + w->pair_dt * nt__sqrt(dvx * dvx + dvy * dvy);
+    /* The gap that makes a contact: the base margin plus the reach along both axes (the
+     * gap's normal has the signs of the centres' offset, so the sum bounds the reach
+     * along it). */
+    nt_real dx = bj->p.x - bi->p.x, dy = bj->p.y - bi->p.y;
+    nt_real margin = w->pair_margin + w->pair_dt * (axis_reach(dx, bi->v.x, bj->v.x) + axis_reach(dy, bi->v.y, bj->v.y));
     if (margin > w->cell) margin = w->cell;
     if (!nt__pair_filter(bi, bj)) return 1;
     if (w->char_count && stands_on(w, i, j)) return 1;
@@ -443,7 +457,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
  * this step (|v| dt per axis, at most a cell), and a little for rounding: two
  * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
  * on the bodies), whose margin is at most a cell and at most the base margin plus
- * |dv| dt <= (|va| + |vb|) dt. */
+ * (|va| + |vb|) dt per axis. */
 static nt_status build_proxies(nt_world *w, int *count)
 {
     if (w->awake_count > w->prox_cap) {

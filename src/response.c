@@ -635,9 +635,13 @@ static void correct_positions(nt_world *w)
             nt_real d = m.depth - skin_at(w, a->p);
             if (d <= 0) continue;
             /* A body held by a tile surface against this push does not give way: the
-             * other one moves the whole distance (tiles are resolved after the loop). */
-            if (wa > 0 && held(a, m.normal)) wa = 0;
-            if (wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y))) wb = 0;
+             * other one moves the whole distance (tiles are resolved after the loop).
+             * When both are held, the push is split anyway: the tile resolution after
+             * the loop slides each along its surface (a circle sliding down a slope
+             * into one resting in a notch would otherwise creep into it). */
+            int ha = wa > 0 && held(a, m.normal), hb = wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y));
+            if (ha && !hb) wa = 0;
+            if (hb && !ha) wb = 0;
             if (wa + wb <= 0) continue;
             nt_real sa = d * wa / (wa + wb), sb = d - sa;
             pushed = 1;

@@ -176,8 +176,35 @@ static void test_body_overlap(void **state)
     t = metrics_begin(&s);
     metrics_step(t, st);
     assert_float_equal(metrics_get(t).overlap, 0, 0);
+    assert_int_equal(metrics_get(t).deep_pairs, 0);
     metrics_end(t);
     scene_free(&s);
+}
+
+/* The percentile of the steps' deepest overlaps and the deep pair-steps: 200 steps, 197
+ * of them with an overlap of 0.1 cell, 3 of 0.5 cell; p99 (nearest rank: the 198th of
+ * 200) is 0.5, and 0.1 once only 2 steps are deep; each deep step is one deep pair. */
+static void test_overlap_percentile(void **state)
+{
+    (void)state;
+    for (int ndeep = 3; ndeep >= 2; ndeep--) {
+        scene s = small_scene(8, 8, 2);
+        s.bodies[0] = box_body(6, 50, 50);
+        s.bodies[1] = box_body(6, 62, 50);
+        metrics_tracker *t = metrics_begin(&s);
+        assert_non_null(t);
+        for (int k = 0; k < 200; k++) {
+            double d = (k % 50 == 7 && k / 50 < ndeep ? 0.5 : 0.1) * CELL;
+            body_state st[2] = {{50, 50, 0, 0}, {62 - d, 50, 0, 0}};
+            metrics_step(t, st);
+        }
+        metrics m = metrics_get(t);
+        assert_float_equal(m.overlap, 0.5, 1e-6);
+        assert_float_equal(m.overlap_p99, ndeep == 3 ? 0.5 : 0.1, 1e-6);
+        assert_int_equal(m.deep_pairs, ndeep);
+        metrics_end(t);
+        scene_free(&s);
+    }
 }
 
 /* Every scene builds, twice identically, with bodies inside the map and free of tiles. */
@@ -358,7 +385,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_penetration), cmocka_unit_test(test_tunnelling), cmocka_unit_test(test_energy),
-        cmocka_unit_test(test_tracker),     cmocka_unit_test(test_body_overlap), cmocka_unit_test(test_scenes),
+        cmocka_unit_test(test_tracker),     cmocka_unit_test(test_body_overlap),
+        cmocka_unit_test(test_overlap_percentile), cmocka_unit_test(test_scenes),
         cmocka_unit_test(test_character_scene), cmocka_unit_test(test_outlines),    cmocka_unit_test(test_pareto),    cmocka_unit_test(test_csv_split),
         cmocka_unit_test(test_svg),
     };

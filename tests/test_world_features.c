@@ -180,8 +180,9 @@ static void test_broad_phase_matches_brute_force(void **state)
 
 /* Moving circles: the first step's begin events are exactly the pairs the contact
  * rule (README, The world) makes touching, worked out here for every pair: boxes
- * within 0.05 cell plus, on each axis they approach along, what they close in one
- * step (at most a cell); centres' gap below 0.05 cell plus |dv| dt (at most a cell);
+ * within 0.05 cell plus, on each axis, the reach: what each travels towards the other
+ * in one step (0 when level on it; at most a cell); gap below 0.05 cell
+ * plus the reach summed over both axes (at most a cell);
  * touching when the gap is below the 2.5e-4-cell skin or the closing speed covers
  * it within the step. Pairs within 1e-4 of a threshold are not judged. The fast
  * bodies make the broad phase's reach matter, not only its margin. */
@@ -217,16 +218,19 @@ static void test_broad_phase_speculative_matches_brute_force(void **state)
             const spec *a = &specs[i], *b = &specs[j];
             double ra = (double)a->shape.half.x, rb = (double)b->shape.half.x;
             double d[2] = {b->x - a->x, b->y - a->y}, dv[2] = {b->vx - a->vx, b->vy - a->vy};
+            double va[2] = {a->vx, a->vy}, vb[2] = {b->vx, b->vy}, travel = 0;
             int box = 1, unsure = 0;
             for (int k = 0; k < 2; k++) {
-                double reach = pm + (d[k] * dv[k] < 0 ? fabs(dv[k]) * dt : 0);
+                double towards = d[k] > 0 ? fmax(va[k], 0) + fmax(-vb[k], 0)
+                                 : d[k] < 0 ? fmax(-va[k], 0) + fmax(vb[k], 0) : 0;
+                travel += towards;
+                double reach = pm + towards * dt;
                 double lim = ra + rb + (reach < 1 ? reach : 1);
                 if (fabs(fabs(d[k]) - lim) < amb) unsure = 1;
                 if (!(fabs(d[k]) < lim)) box = 0;
             }
             double len = sqrt(d[0] * d[0] + d[1] * d[1]), gap = len - ra - rb;
-            double speed = sqrt(dv[0] * dv[0] + dv[1] * dv[1]);
-            double margin = pm + dt * speed < 1 ? pm + dt * speed : 1;
+            double margin = pm + dt * travel < 1 ? pm + dt * travel : 1;
             double closing = -(dv[0] * d[0] + dv[1] * d[1]) / len;
             if (fabs(gap - margin) < amb || fabs(gap - skin) < amb || fabs(closing * dt - gap) < amb || fabs(gap) < amb)
                 unsure = 1;

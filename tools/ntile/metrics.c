@@ -15,6 +15,8 @@ struct metrics_tracker {
     uint8_t *tunnelled, *ghost;
     int *apex_count;
     int *cell_head, *next; /* body-body overlap grid: one list per cell */
+    double *step_overlap;  /* each step's deepest overlap (for the percentile) */
+    int step_overlap_cap;
     double e0;
     int has_energy, has_slide, has_rest, has_bounce, has_incline, has_flight, has_collide;
     metrics m;
@@ -84,6 +86,12 @@ static double total_energy(const metrics_tracker *t, const body_state *st)
 
 static double maxd(double a, double b) { return a > b ? a : b; }
 
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 metrics_tracker *metrics_begin(const scene *s)
 {
     metrics_tracker *t = calloc(1, sizeof *t);
@@ -133,12 +141,14 @@ void metrics_end(metrics_tracker *t)
     free(t->apex_count);
     free(t->cell_head);
     free(t->next);
+    free(t->step_overlap);
     free(t);
 }
 
 /* Deepest overlap between two bodies that collide, through a grid of cells: bodies are
- * at most a cell across, so overlapping ones have centres in neighbouring cells. */
-static double body_overlap(metrics_tracker *t, const body_state *st)
+ * at most a cell across, so overlapping ones have centres in neighbouring cells. *deep
+ * gets the pairs overlapping by DEEP_OVERLAP or more. */
+static double body_overlap(metrics_tracker *t, const body_state *st, long *deep)
 {
     const scene *s = t->s;
     int w = s->width, h = s->height;
@@ -153,6 +163,7 @@ static double body_overlap(metrics_tracker *t, const body_state *st)
         t->cell_head[k] = i;
     }
     double worst = 0;
+    *deep = 0;
     for (int i = 0; i < t->n; i++) {
         const scene_body *a = &s->bodies[i];
         if (!a->collide_bodies) continue;
@@ -164,8 +175,11 @@ static double body_overlap(metrics_tracker *t, const body_state *st)
                     if (j <= i) continue;
                     nt_mtv m;
                     if (nt_collide_shapes(nt_v2(R(st[i].x), R(st[i].y)), body_shape(a), nt_v2(R(st[j].x), R(st[j].y)),
-                                          body_shape(&s->bodies[j]), &m))
-                        worst = maxd(worst, (double)m.depth / s->cell);
+                                          body_shape(&s->bodies[j]), &m)) {
+                        double d = (double)m.depth / s->cell;
+                        worst = maxd(worst, d);
+                        *deep += d >= DEEP_OVERLAP;
+                    }
                 }
             }
     }
@@ -227,7 +241,33 @@ void metrics_step(metrics_tracker *t, const body_state *st)
     }
     if (t->has_energy && t->e0 != 0)
         t->m.energy_drift = maxd(t->m.energy_drift, fabs(total_energy(t, st) - t->e0) / fabs(t->e0));
-    if (t->has_collide) t->m.overlap = maxd(t->m.overlap, body_overlap(t, st));
+    if (t->has_collide) {
+        long deep;
+        double worst = body_overlap(t, st, &deep);
+        t->m.overlap = maxd(t->m.overlap, worst);
+        t->m.deep_pairs += deep;
+        if (t->step > t->step_overlap_cap) { /* on failure the percentile leaves the step out */
+            int cap = t->step_overlap_cap ? 2 * t->step_overlap_cap : 1024;
+            double *p = realloc(t->step_overlap, (size_t)cap * sizeof *p);
+            if (p) t->step_overlap = p, t->step_overlap_cap = cap;
+        }
+        if (t->step <= t->step_overlap_cap) t->step_overlap[t->step - 1] = worst;
+    }
+}
+
+/* The 99th percentile of the steps' deepest overlaps (nearest rank). */
+static double overlap_p99(const metrics_tracker *t)
+{
+    int n = t->step < t->step_overlap_cap ? t->step : t->step_overlap_cap;
+    if (n <= 0) return 0;
+    double *v = malloc((size_t)n * sizeof *v);
+    if (!v) return -1;
+    memcpy(v, t->step_overlap, (size_t)n * sizeof *v);
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    int k = (int)ceil(0.99 * n) - 1;
+    double p = v[k < 0 ? 0 : k];
+    free(v);
+    return p;
 }
 
 metrics metrics_get(const metrics_tracker *t)
@@ -262,7 +302,8 @@ metrics metrics_get(const metrics_tracker *t)
     }
     for (int i = 0; i < t->n; i++) /* an apex that never came is a 100 % error */
         if (s->bodies[i].role == ROLE_BOUNCE && t->apex_count[i] < MAX_APEX) m.bounce_error = maxd(m.bounce_error, 1);
-    if (!t->has_collide) m.overlap = -1;
+    if (t->has_collide) m.overlap_p99 = overlap_p99(t);
+    else m.overlap = -1, m.overlap_p99 = -1, m.deep_pairs = -1;
     if (!t->has_slide) m.ghost_bumps = -1, m.max_up = -1, m.speed_loss = -1;
     if (!t->has_energy) m.energy_drift = -1;
     if (!t->has_rest) m.jitter = -1, m.rest_speed = -1;

@@ -5,6 +5,10 @@
  * positions, whichever engine produced them:
  *   penetration  deepest overlap of a body with one tile (nt_map_overlap_depth), cells
  *   overlap      deepest overlap between two bodies that collide (nt_collide_shapes), cells
+ *   overlap_p99  99th percentile over the steps of each step's deepest overlap, cells (a
+ *                single deepest event is a noisy measure)
+ *   deep_pairs   pair-steps overlapping by DEEP_OVERLAP cell or more: a pair counts once
+ *                for every step it ends that deep
  *   tunnelled    bodies that, at the end of some step, had their centre inside a solid
  *                tile or outside the map, or whose centre's straight path during the step
  *                crossed solid over more than the body's smaller half-size (it went through
@@ -29,6 +33,8 @@
 
 /* Upward speed (cells/s) above which sliding on a flat floor counts as a ghost bump. */
 #define GHOST_SPEED 0.05
+/* Body-body overlap (cells) from which a pair counts in deep_pairs. */
+#define DEEP_OVERLAP 0.25
 
 /* A body's state in scene units. */
 typedef struct body_state {
@@ -48,6 +54,8 @@ typedef struct metrics {
     double bounce_error;  /* relative */
     double incline_error; /* relative */
     double flight_error;  /* relative */
+    double overlap_p99;   /* cells, -1 when no two bodies collide */
+    long deep_pairs;      /* pair-steps, -1 when no two bodies collide */
 } metrics;
 
 typedef struct metrics_tracker metrics_tracker;
