@@ -204,6 +204,10 @@ enum {
     NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
+/* nt__body.motion: this step's velocity solve has a contact on the body; the body
+ * began the previous step's move with no tile contact (with none now either, it has
+ * been in the air for a whole step: its flight is the parabola). */
+enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */ };
@@ -254,7 +258,7 @@ typedef struct nt__body {
     uint8_t glist;             /* NT__LIST_* */
     uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
     uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
-    uint8_t in_solve;          /* this step's velocity solve has a contact on it (response.c) */
+    uint8_t motion;            /* NT__MF_*: how the move of this step integrates (response.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];

@@ -744,7 +744,7 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
     const nt__body *b = &w->bodies[i];
     int32_t s = (int32_t)(*nsv)++;
     index[i] = s;
-    w->bodies[i].in_solve = 1;
+    w->bodies[i].motion |= NT__MF_SOLVED;
     nt__svel *sv = w->svel;
     sv[s].v = b->v;
     sv[s].w = solver_w(b);
@@ -809,7 +809,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
     for (int k = 0; k < w->awake_count; k++) {
         nt__body *b = &w->bodies[w->awake[k]];
         if (b->type != NT_BODY_DYNAMIC) continue;
-        b->in_solve = 0;
+        b->motion &= (uint8_t)~NT__MF_SOLVED;
         b->v = nt__solve_velocity(w, b, dt);
         if (b->ntc) tile_solve(w, b);
     }
@@ -1028,13 +1028,18 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
         return 1;
     }
     b->flags &= (uint8_t)~NT__BF_RESTING;
-    /* Free flight (no tile under it from the last step, no contact in this step's
-     * solve, no drag, not held back by the speed limit) follows the exact parabola:
-     * the solve added g dt to v, and over a substep ending at time t1 the exact
-     * displacement is (v - g (dt - t1 + h/2)) h. Bodies in contact keep semi-implicit
-     * Euler (v dt), which stacks stably. */
+    /* Free flight (no tile contact at the end of the last two steps, no contact in
+     * this step's solve, no drag, not held back by the speed limit) follows the exact
+     * parabola: the solve added g dt to v, and over a substep ending at time t1 the
+     * exact displacement is (v - g (dt - t1 + h/2)) h. Bodies in contact keep
+     * semi-implicit Euler (v dt), which stacks stably, and so does a body that lost its
+     * tile contact only in the last step (at a seam, a crest): with v dt it sinks back
+     * into the surface it slides along, where the parabola would leave it above it,
+     * within the skin, and out of contact. */
     nt_vec2 ga = nt_v2(0, 0);
-    if (free_ok && !b->ntc && !b->in_solve && b->drag == 0) {
+    int air = (b->motion & NT__MF_AIR) != 0;
+    b->motion = (uint8_t)((b->motion & ~NT__MF_AIR) | (b->ntc ? 0 : NT__MF_AIR));
+    if (free_ok && !b->ntc && air && !(b->motion & NT__MF_SOLVED) && b->drag == 0) {
         ga = nt_v2(w->def.gravity.x * b->gravity_scale, w->def.gravity.y * b->gravity_scale);
         /* Not when the parabola's bend is more than a step may move (huge gravity): the
          * speed limit holds the displacement, and v dt keeps within it. */

@@ -739,6 +739,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     b->awake_slot = -1;
     b->sleep_next = -1;
     b->one_way = def->is_one_way ? 1 : 0;
+    b->motion = NT__MF_AIR; /* created touching no tile: in the air since before its first step */
     w->one_way_bodies += b->one_way;
     b->gcell = -1;
     b->gnext = b->gprev = -1;
