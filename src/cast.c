@@ -194,6 +194,41 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
     return 1;
 }
 
+/* A round tile's solid lies in its bounds and on the inner side of a line of its
+ * normal n: the tangent at the arc's middle (CONVEX: n . (p - o) <= 1, o the arc's
+ * centre) or the chord between the arc's ends (CONCAVE: n . (p - o) <= -1/sqrt(2)).
+ * A box whose centre's segment stays HULL_MARGIN outside box (+) that hull (far more
+ * than the rounding of the segment or of the narrow phase) overlaps the tile nowhere
+ * along it, so no piece of it is inside: no entry, without the curves. */
+#define HULL_MARGIN R(1e-4)
+
+static int round_hull_missed(const nt_tile_info *ti, const seg *s, nt_vec2 h)
+{
+    nt_vec2 n = ti->normal, o = ti->arc_center;
+    nt_real k = ti->cls == NT_CLASS_CONVEX ? R(1) : R(-0.70710678118654752);
+    const nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
+                             {1, 0, ti->bounds_max.x + h.x},
+                             {0, -1, h.y - ti->bounds_min.y},
+                             {0, 1, ti->bounds_max.y + h.y},
+                             {n.x, n.y, n.x * o.x + n.y * o.y + k + h.x * nt__fabs(n.x) + h.y * nt__fabs(n.y)}};
+    nt_real lo = 0, hi = 1;
+    for (int i = 0; i < 5; i++) {
+        nt_real gap = (L[i][2] + HULL_MARGIN) - (L[i][0] * s->a.x + L[i][1] * s->a.y); /* > 0: inside at a */
+        nt_real den = L[i][0] * s->d.x + L[i][1] * s->d.y;
+        if (den == 0) {
+            if (gap <= 0) return 1;
+            continue;
+        }
+        nt_real t = gap / den;
+        if (den < 0) {
+            if (t > lo) lo = t;
+        } else if (t < hi) {
+            hi = t;
+        }
+    }
+    return lo > hi;
+}
+
 /* The segment (local to the tile's cell) against one tile. */
 static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
 {
@@ -215,6 +250,7 @@ static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real
         }
         return halfplanes_entry((const nt_real(*)[3])L, nl, s, one_way, t, n);
     }
+    if (obj.type == NT_SHAPE_AABB && round_hull_missed(ti, s, h)) return 0;
     xings X;
     X.n = 0;
     int nv = ti->vertex_count;
@@ -305,6 +341,7 @@ typedef struct caster {
     nt_real tiny0, tol;        /* rounding at the start, and the resting limit */
     nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
     int tiles;
+    int one_way_cells;         /* the world has one-way cells */
     hitrec best;
 } caster;
 
@@ -317,7 +354,7 @@ static int one_way_ignored(nt_real depth, nt_vec2 n, const caster *c)
 
 static int cell_one_way(const caster *c, int x, int y)
 {
-    return c->world && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
+    return c->one_way_cells && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
 }
 
 /* A one-way cell the cast passes through (filter.one_way_off). */
@@ -330,11 +367,25 @@ static int cell_skipped(const caster *c, int x, int y)
  * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
 static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
 {
-    nt__cell cell = nt__map_cell(c->map, x, y);
+    const nt_map *map = c->map;
+    nt__cell cell = nt__map_in(map, x, y) ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
     *n = nt_v2(0, 0);
     if (cell.tile == NT_TILE_EMPTY) return 0;
     nt_vec2 l = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
     nt_mtv m, u;
+    if (c->obj.type == NT_SHAPE_AABB) {
+        /* A box's overlap does not depend on the mask (the masked routine is the
+         * plain one with mask 0, and separates exactly when it does): the plain test
+         * is needed only for a masked tile's depth. */
+        int r = nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, cell.seams, &m);
+        if (r == NT__SEPARATE) return 0;
+        if (r == NT__MASKED) {
+            nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, 0, &u);
+            return u.depth <= c->tol ? 0 : NT_REAL_MAX;
+        }
+        *n = m.normal;
+        return m.depth;
+    }
     /* The overlap itself from the plain test: the masked one measures the way out. */
     if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
     int r = c->obj.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(cell.tile, l, c->obj.half.x, cell.seams, &m)
@@ -391,7 +442,8 @@ static int start_tiles(caster *c, nt_real *rest)
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             nt_vec2 n;
-            if (cell_skipped(c, x, y)) continue;
+            /* An EMPTY cell overlaps nothing: no depth, no contact. */
+            if (nt__map_tile(c->map, x, y) == NT_TILE_EMPTY || cell_skipped(c, x, y)) continue;
             nt_real depth = tile_start_depth(c, x, y, &n);
             if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
             int had = c->best.kind;
@@ -401,11 +453,10 @@ static int start_tiles(caster *c, nt_real *rest)
     return 0;
 }
 
-/* The sweep against one tile cell. */
-static void sweep_cell(caster *c, int x, int y, nt_real tmax)
+/* The sweep against one tile cell (not EMPTY). */
+static void sweep_cell(caster *c, int x, int y, int tile, nt_real tmax)
 {
-    int tile = nt__map_tile(c->map, x, y);
-    if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) return;
+    if (cell_skipped(c, x, y)) return;
     int one_way = cell_one_way(c, x, y);
     if (one_way) {
         nt_vec2 n;
@@ -462,9 +513,15 @@ static void sweep_tiles(caster *c)
         nt_real ya = nt__min(p0.y + d.y * t0, p0.y + d.y * t1), yb = nt__max(p0.y + d.y * t0, p0.y + d.y * t1);
         int cy0 = nt__floor_int(ya - h.y), cy1 = nt__floor_int(yb + h.y);
         for (int y = sy > 0 ? cy0 : cy1; sy > 0 ? y <= cy1 : y >= cy0; y += sy) {
+            /* EMPTY cells first: the rows are met in order of time, so a row
+             * starting after the best hit is followed only by such rows, and the
+             * walk stops at the first one that is not EMPTY as it would have at
+             * the first. */
+            int tile = nt__map_tile(c->map, x, y);
+            if (tile == NT_TILE_EMPTY) continue;
             nt_real u0, u1;
             if (slab(p0.y, d.y, (nt_real)y - h.y, (nt_real)y + 1 + h.y, &u0, &u1) && u0 > c->best.t) break;
-            sweep_cell(c, x, y, nt__min(c->best.t, R(1)));
+            sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
         }
     }
 }
@@ -570,6 +627,17 @@ static nt_vec2 contact_point(const caster *c, nt_vec2 q)
     return p;
 }
 
+/* Are the cells [x0, x1] x [y0, y1] all EMPTY cells of the map? One open3 bit per
+ * 3 x 3 block; no (the long way) near the map's edge or for a large range. */
+static int cells_empty(const nt_map *map, int x0, int y0, int x1, int y1)
+{
+    if (x1 - x0 > 8 || y1 - y0 > 8) return 0;
+    for (int y = y0 + 1; y - 1 <= y1; y += 3)
+        for (int x = x0 + 1; x - 1 <= x1; x += 3)
+            if (!nt__map_open3(map, x, y)) return 0;
+    return 1;
+}
+
 /* The whole cast. Returns 1 on a hit (c->best). */
 static int run_cast(caster *c)
 {
@@ -586,7 +654,15 @@ static int run_cast(caster *c)
     c->best.body = -1;
     c->best.lo = c->best.hi = nt_v2(0, 0);
     nt_real rest = 0;
-    if (c->tiles && start_tiles(c, &rest)) return 1;
+    /* Every cell the start and the sweep can look at (the start box and the swept
+     * box, obj being at least the swept shape) EMPTY: neither finds anything there. */
+    int tiles = c->tiles;
+    if (tiles) {
+        nt_vec2 h = c->obj.half, p1 = nt__add(c->p0, c->d);
+        tiles = !cells_empty(c->map, nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), nt__floor_int(nt__min(c->p0.y, p1.y) - h.y),
+                             nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), nt__floor_int(nt__max(c->p0.y, p1.y) + h.y));
+    }
+    if (tiles && start_tiles(c, &rest)) return 1;
     body_pass bp;
     bp.c = c;
     bp.rest = &rest;
@@ -601,7 +677,7 @@ static int run_cast(caster *c)
         nt_real k = rest + c->tiny0;
         c->sweep.half = nt_v2(nt__max(c->obj.half.x - k, 0), nt__max(c->obj.half.y - k, 0));
     }
-    if (c->tiles) sweep_tiles(c);
+    if (tiles) sweep_tiles(c);
     bp.start = 0;
     nt_vec2 p1 = nt__add(c->p0, c->d);
     nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
@@ -655,6 +731,7 @@ bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_
     c.world = world;
     c.filter = &filter;
     c.tiles = filter.tiles;
+    c.one_way_cells = world->oneway_count > 0;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
     r.fraction = c.best.t;
