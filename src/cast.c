@@ -12,11 +12,14 @@
  */
 #include "core.h"
 
-/* A crossing of the segment with a boundary curve, with the curve's normal there
- * oriented against the motion (a piece entered there is entered through it). */
+/* A crossing of the segment with a boundary curve, and the curve's normal there:
+ * a line's unit normal, or a circle's radius vector (made unit when asked for),
+ * oriented against the motion when asked for (xing_normal): a piece entered there is
+ * entered through it. Only the normal of the crossing nearest an entry is ever used. */
 typedef struct xing {
     nt_real t;
-    nt_vec2 n;
+    nt_real nx, ny;
+    int circle;
 } xing;
 
 enum { MAX_X = 64 };
@@ -45,29 +48,48 @@ typedef struct hitrec {
     nt_vec2 lo, hi; /* bounds of what was hit (for the contact point) */
 } hitrec;
 
-static void add_x(xings *X, const seg *s, nt_real t, nt_real nx, nt_real ny)
+static inline void add_x(xings *X, nt_real t, nt_real nx, nt_real ny, int circle)
 {
     if (X->n >= MAX_X || !(t <= 1) || t < -1) return;
-    if (nx * s->d.x + ny * s->d.y > 0) nx = -nx, ny = -ny;
     X->x[X->n].t = t;
-    X->x[X->n].n = nt_v2(nx, ny);
+    X->x[X->n].nx = nx;
+    X->x[X->n].ny = ny;
+    X->x[X->n].circle = circle;
     X->n++;
 }
 
-/* The line n . p = e (n unit). */
-static void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_real e)
+/* The unit normal of crossing i, against the motion. */
+static nt_vec2 xing_normal(const xings *X, const seg *s, int i)
 {
-    nt_real den = nx * s->d.x + ny * s->d.y;
-    if (den == 0) return;
-    add_x(X, s, (e - (nx * s->a.x + ny * s->a.y)) / den, nx, ny);
+    nt_real nx = X->x[i].nx, ny = X->x[i].ny;
+    if (X->x[i].circle) {
+        nt_real l = nt__sqrt(nx * nx + ny * ny);
+        nx = nx / l, ny = ny / l;
+    }
+    if (nx * s->d.x + ny * s->d.y > 0) nx = -nx, ny = -ny;
+    return nt_v2(nx, ny);
 }
 
-/* The circle |p - q| = rad. */
-static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
+/* The line n . p = e (n unit), with den = n . d and na = n . a computed by the caller
+ * (one line direction serves several offsets e). */
+static inline void line_x_pre(xings *X, nt_real nx, nt_real ny, nt_real den, nt_real na, nt_real e)
+{
+    if (den == 0) return;
+    add_x(X, (e - na) / den, nx, ny, 0);
+}
+
+/* The line n . p = e (n unit). */
+static inline void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_real e)
+{
+    line_x_pre(X, nx, ny, nx * s->d.x + ny * s->d.y, nx * s->a.x + ny * s->a.y, e);
+}
+
+/* The circle |p - q| = rad; A = d . d. */
+static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real qx, nt_real qy, nt_real rad)
 {
     if (!(rad > 0)) return;
     nt_real mx = s->a.x - qx, my = s->a.y - qy;
-    nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, B = mx * s->d.x + my * s->d.y;
+    nt_real B = mx * s->d.x + my * s->d.y;
     nt_real C = mx * mx + my * my - rad * rad;
     /* B^2 - A C written as A rad^2 - (m x d)^2: no cancellation between two large
      * terms when the circle is small and far. */
@@ -86,10 +108,18 @@ static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad
     }
     for (int i = 0; i < nr; i++) {
         nt_real t = roots[i];
-        nt_real px = mx + s->d.x * t, py = my + s->d.y * t, l = nt__sqrt(px * px + py * py);
-        if (l > 0) add_x(X, s, t, px / l, py / l);
+        nt_real px = mx + s->d.x * t, py = my + s->d.y * t;
+        if (px * px + py * py > 0) add_x(X, t, px, py, 1); /* a unit normal exists */
     }
 }
+
+static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
+{
+    circle_x_a(X, s, s->d.x * s->d.x + s->d.y * s->d.y, qx, qy, rad);
+}
+
+/* The same bits (not only the same value: -0 and +0 differ). */
+static inline int same_bits(nt_real a, nt_real b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 /* What a piece of the segment is inside of. */
 typedef struct region {
@@ -141,12 +171,13 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
             in_run = 0;
             if (run_depth > s->tiny + run_start * s->tiny_per_t) {
                 /* The curve crossed nearest to the run's start bounds it there. */
-                nt_vec2 n = run_n;
                 nt_real best = NT_REAL_MAX;
+                int bi = -1;
                 for (int i = 0; i < X->n; i++) {
                     nt_real e = nt__fabs(X->x[i].t - run_start);
-                    if (e < best) best = e, n = X->x[i].n;
+                    if (e < best) best = e, bi = i;
                 }
+                nt_vec2 n = bi >= 0 ? xing_normal(X, s, bi) : run_n;
                 if (!one_way || n.y < 0) {
                     *t_out = run_start;
                     *n_out = n;
@@ -272,22 +303,52 @@ static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real
         }
     } else {
         /* M = tile (+) box: each box corner running along each tile edge and the arc,
-         * and each box side running past each tile corner. */
+         * and each box side running past each tile corner. A crossing equal bit for
+         * bit to one listed before it (an axis-aligned edge met by two corners at the
+         * same offset, two tile corners on one line) is left out: it bounds no piece
+         * of its own and is never the only nearest. Each edge's normal, n . d and
+         * n . a are computed once, as line_x would compute them for every corner. */
+        nt_real enx[4], eny[4], eex[4], eey[4], elen[4], eden[4], ena[4], eoff[4][4];
+        for (int i = 0; i < nv; i++) {
+            nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
+            eex[i] = -(w.y - v.y), eey[i] = w.x - v.x, elen[i] = nt__sqrt(eex[i] * eex[i] + eey[i] * eey[i]);
+            if (elen[i] > 0) {
+                enx[i] = eex[i] / elen[i], eny[i] = eey[i] / elen[i];
+                eden[i] = enx[i] * s->d.x + eny[i] * s->d.y;
+                ena[i] = enx[i] * s->a.x + eny[i] * s->a.y;
+            }
+        }
+        nt_real A = s->d.x * s->d.x + s->d.y * s->d.y;
         for (int k = 0; k < 4; k++) {
             nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
             for (int i = 0; i < nv; i++) {
-                nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
-                nt_real ex = -(w.y - v.y), ey = w.x - v.x, len = nt__sqrt(ex * ex + ey * ey);
-                if (len > 0) line_x(&X, s, ex / len, ey / len, (ex * (v.x - sx) + ey * (v.y - sy)) / len);
+                if (!(elen[i] > 0)) continue;
+                nt_vec2 v = ti->vertices[i];
+                nt_real e = (eex[i] * (v.x - sx) + eey[i] * (v.y - sy)) / elen[i];
+                eoff[i][k] = e;
+                int dup = 0;
+                for (int j = 0; j < k; j++) dup |= same_bits(eoff[i][j], e);
+                if (!dup) line_x_pre(&X, enx[i], eny[i], eden[i], ena[i], e);
             }
-            if (round) circle_x(&X, s, o.x - sx, o.y - sy, 1);
+            if (round) circle_x_a(&X, s, A, o.x - sx, o.y - sy, 1);
         }
+        nt_real denx = R(1) * s->d.x + R(0) * s->d.y, nax = R(1) * s->a.x + R(0) * s->a.y;
+        nt_real deny = R(0) * s->d.x + R(1) * s->d.y, nay = R(0) * s->a.x + R(1) * s->a.y;
         for (int i = 0; i < nv; i++) {
             nt_vec2 v = ti->vertices[i];
-            line_x(&X, s, 1, 0, v.x - h.x);
-            line_x(&X, s, 1, 0, v.x + h.x);
-            line_x(&X, s, 0, 1, v.y - h.y);
-            line_x(&X, s, 0, 1, v.y + h.y);
+            int dupx = 0, dupy = 0;
+            for (int j = 0; j < i; j++) {
+                dupx |= same_bits(ti->vertices[j].x, v.x);
+                dupy |= same_bits(ti->vertices[j].y, v.y);
+            }
+            if (!dupx) {
+                line_x_pre(&X, 1, 0, denx, nax, v.x - h.x);
+                line_x_pre(&X, 1, 0, denx, nax, v.x + h.x);
+            }
+            if (!dupy) {
+                line_x_pre(&X, 0, 1, deny, nay, v.y - h.y);
+                line_x_pre(&X, 0, 1, deny, nay, v.y + h.y);
+            }
         }
     }
     region g;
@@ -342,6 +403,7 @@ typedef struct caster {
     nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
     int tiles;
     int one_way_cells;         /* the world has one-way cells */
+    int rx0, ry0, rx1, ry1;    /* the cells of the start box and the box swept (run_cast) */
     hitrec best;
 } caster;
 
@@ -436,9 +498,11 @@ static void set_tile_bounds(hitrec *h, int tile, int x, int y)
 /* Start overlaps with the tiles. Returns 1 when the cast is decided (deep). */
 static int start_tiles(caster *c, nt_real *rest)
 {
-    nt_vec2 h = c->obj.half;
-    int x0 = nt__floor_int(c->p0.x - h.x), x1 = nt__floor_int(c->p0.x + h.x);
-    int y0 = nt__floor_int(c->p0.y - h.y), y1 = nt__floor_int(c->p0.y + h.y);
+    /* The start box's cells; the swept box's range starts (ends) with them on the
+     * side the motion leaves from: the same sums, the same floors. */
+    nt_vec2 h = c->obj.half, p0 = c->p0, p1 = nt__add(c->p0, c->d);
+    int x0 = p0.x <= p1.x ? c->rx0 : nt__floor_int(p0.x - h.x), x1 = p0.x >= p1.x ? c->rx1 : nt__floor_int(p0.x + h.x);
+    int y0 = p0.y <= p1.y ? c->ry0 : nt__floor_int(p0.y - h.y), y1 = p0.y >= p1.y ? c->ry1 : nt__floor_int(p0.y + h.y);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             nt_vec2 n;
@@ -501,7 +565,8 @@ static void sweep_tiles(caster *c)
 {
     nt_vec2 h = c->sweep.half, p0 = c->p0, d = c->d;
     nt_real xa = nt__min(p0.x, p0.x + d.x), xb = nt__max(p0.x, p0.x + d.x);
-    int cx0 = nt__floor_int(xa - h.x), cx1 = nt__floor_int(xb + h.x);
+    int same = same_bits(h.x, c->obj.half.x); /* not shrunk: run_cast's range */
+    int cx0 = same ? c->rx0 : nt__floor_int(xa - h.x), cx1 = same ? c->rx1 : nt__floor_int(xb + h.x);
     int sx = d.x < 0 ? -1 : 1, sy = d.y < 0 ? -1 : 1;
     for (int x = sx > 0 ? cx0 : cx1; sx > 0 ? x <= cx1 : x >= cx0; x += sx) {
         nt_real t0, t1;
@@ -597,7 +662,7 @@ static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
 
 /* ---- input, output ---- */
 
-static int shape_ok(nt_shape s, nt_real cell)
+int nt__cast_shape_ok(nt_shape s, nt_real cell)
 {
     nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
     if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
@@ -659,8 +724,9 @@ static int run_cast(caster *c)
     int tiles = c->tiles;
     if (tiles) {
         nt_vec2 h = c->obj.half, p1 = nt__add(c->p0, c->d);
-        tiles = !cells_empty(c->map, nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), nt__floor_int(nt__min(c->p0.y, p1.y) - h.y),
-                             nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), nt__floor_int(nt__max(c->p0.y, p1.y) + h.y));
+        c->rx0 = nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), c->ry0 = nt__floor_int(nt__min(c->p0.y, p1.y) - h.y);
+        c->rx1 = nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), c->ry1 = nt__floor_int(nt__max(c->p0.y, p1.y) + h.y);
+        tiles = !cells_empty(c->map, c->rx0, c->ry0, c->rx1, c->ry1);
     }
     if (tiles && start_tiles(c, &rest)) return 1;
     body_pass bp;
@@ -686,13 +752,19 @@ static int run_cast(caster *c)
     return c->best.kind != 0 && c->best.t <= 1;
 }
 
-static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation)
+/* Every field run_cast reads is set here or by the caller (world, filter, tiles,
+ * one_way_cells); run_cast sets sweep and best. shape_known: the caller checked the
+ * shape with nt__cast_shape_ok. */
+static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation, int shape_known)
 {
-    if (!map || !shape_ok(shape, map->cell)) return 0;
+    if (!map || (!shape_known && !nt__cast_shape_ok(shape, map->cell))) return 0;
     if (!nt__finite(pos.x) || !nt__finite(pos.y) || !nt__finite(translation.x) || !nt__finite(translation.y)) return 0;
     nt_real ic = map->inv_cell;
-    memset(c, 0, sizeof *c);
     c->map = map;
+    c->world = NULL;
+    c->filter = NULL;
+    c->tiles = 1;
+    c->one_way_cells = 0;
     c->p0 = nt_v2(pos.x * ic, pos.y * ic);
     c->d = nt_v2(translation.x * ic, translation.y * ic);
     c->obj = shape;
@@ -706,8 +778,7 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
     memset(&r, 0, sizeof r);
     if (out) *out = r;
     caster c;
-    if (!setup(&c, map, pos, shape, translation)) return false;
-    c.tiles = 1;
+    if (!setup(&c, map, pos, shape, translation, 0)) return false;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
     r.fraction = c.best.t;
@@ -722,15 +793,21 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
 bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
                          nt_query_filter filter, nt_world_shape_hit *out)
 {
+    return nt__world_cast_shape(world, pos, shape, translation, &filter, 0, out);
+}
+
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
+                          const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out)
+{
     nt_world_shape_hit r;
     memset(&r, 0, sizeof r);
     if (out) *out = r;
     if (!world) return false;
     caster c;
-    if (!setup(&c, world->map, pos, shape, translation)) return false;
+    if (!setup(&c, world->map, pos, shape, translation, shape_known)) return false;
     c.world = world;
-    c.filter = &filter;
-    c.tiles = filter.tiles;
+    c.filter = filter;
+    c.tiles = filter->tiles;
     c.one_way_cells = world->oneway_count > 0;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));

@@ -135,6 +135,7 @@ typedef struct mover {
     nt_shape shape;
     nt_query_filter filter;
     int32_t skip_body; /* a body the current cast ignores (the platform being ridden), -1 none */
+    int shape_ok;      /* the shape is one casts accept (checked once a move) */
     nt_real cos_floor;
     int on_ground;     /* stood on a floor before the move, or met one during it */
     nt_character_result *r;
@@ -156,9 +157,11 @@ static bool stops_character(nt_body_id id, void *ctx)
 /* Cast from p along d: the fraction travelled (1: nothing met) and the hit. */
 static nt_real cast(mover *m, nt_vec2 p, nt_vec2 d, nt_world_shape_hit *hit)
 {
-    memset(hit, 0, sizeof *hit);
-    if (d.x == 0 && d.y == 0) return 1;
-    if (!nt_world_cast_shape(m->w, p, m->shape, d, m->filter, hit)) return 1;
+    if (d.x == 0 && d.y == 0) {
+        memset(hit, 0, sizeof *hit);
+        return 1;
+    }
+    if (!nt__world_cast_shape(m->w, p, m->shape, d, &m->filter, m->shape_ok, hit)) return 1;
     return hit->fraction;
 }
 
@@ -398,6 +401,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.c = c;
     m.b = b;
     m.shape = nt__body_shape(b);
+    m.shape_ok = nt__cast_shape_ok(m.shape, w->map->cell);
     m.filter = nt_default_query_filter();
     m.filter.mask = b->mask;
     m.filter.ignore_count = 1;

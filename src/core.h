@@ -466,6 +466,13 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 nt_status nt__step(nt_world *w, nt_real dt);
 nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square overflows, at speed vmax */
 
+/* cast.c: a shape a cast accepts (box or circle, half-sizes in (0, NT_MAX_HALF_CELLS
+ * cells]); nt_world_cast_shape with the filter by pointer, and shape_known when the
+ * caller checked the shape (the character mover, once a move). */
+int nt__cast_shape_ok(nt_shape s, nt_real cell);
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
+                          const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out);
+
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);
 
