@@ -662,15 +662,6 @@ static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
 
 /* ---- input, output ---- */
 
-int nt__cast_shape_ok(nt_shape s, nt_real cell)
-{
-    nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
-    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
-    if (!nt__finite(s.half.x) || !nt__finite(s.half.y)) return 0;
-    if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
-    return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
-}
-
 /* Where the shape (at its centre q, cell units) touches what it hit: its support point
  * against the normal, the middle of the shared stretch when a whole side faces it. */
 static nt_vec2 contact_point(const caster *c, nt_vec2 q)
@@ -755,8 +746,10 @@ static int run_cast(caster *c)
 /* Every field run_cast reads is set here or by the caller (world, filter, tiles,
  * one_way_cells); run_cast sets sweep and best. shape_known: the caller checked the
  * shape with nt__cast_shape_ok. */
-static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation, int shape_known)
+static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_vec2 translation,
+                        int shape_known)
 {
+    nt_shape shape = *shape_p;
     if (!map || (!shape_known && !nt__cast_shape_ok(shape, map->cell))) return 0;
     if (!nt__finite(pos.x) || !nt__finite(pos.y) || !nt__finite(translation.x) || !nt__finite(translation.y)) return 0;
     nt_real ic = map->inv_cell;
@@ -778,7 +771,7 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
     memset(&r, 0, sizeof r);
     if (out) *out = r;
     caster c;
-    if (!setup(&c, map, pos, shape, translation, 0)) return false;
+    if (!setup(&c, map, pos, &shape, translation, 0)) return false;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
     r.fraction = c.best.t;
@@ -793,15 +786,17 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
 bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
                          nt_query_filter filter, nt_world_shape_hit *out)
 {
-    return nt__world_cast_shape(world, pos, shape, translation, &filter, 0, out);
+    nt_world_shape_hit scratch;
+    return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, out ? out : &scratch);
 }
 
-bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
+/* The result is written in place, zero until a hit is known (a copy of a struct just
+ * written field by field stalls on store forwarding). */
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
                           const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out)
 {
-    nt_world_shape_hit r;
-    memset(&r, 0, sizeof r);
-    if (out) *out = r;
+    nt_world_shape_hit *r = out;
+    memset(r, 0, sizeof *r);
     if (!world) return false;
     caster c;
     if (!setup(&c, world->map, pos, shape, translation, shape_known)) return false;
@@ -811,16 +806,15 @@ bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt
     c.one_way_cells = world->oneway_count > 0;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
-    r.fraction = c.best.t;
-    r.normal = c.best.n;
-    r.point = nt__scale(contact_point(&c, q), world->map->cell);
+    r->fraction = c.best.t;
+    r->normal = c.best.n;
+    r->point = nt__scale(contact_point(&c, q), world->map->cell);
     if (c.best.body >= 0) {
-        r.body.index1 = c.best.body + 1;
-        r.body.generation = world->bodies[c.best.body].generation;
+        r->body.index1 = c.best.body + 1;
+        r->body.generation = world->bodies[c.best.body].generation;
     } else {
-        r.cell_x = c.best.cx;
-        r.cell_y = c.best.cy;
+        r->cell_x = c.best.cx;
+        r->cell_y = c.best.cy;
     }
-    if (out) *out = r;
     return true;
 }

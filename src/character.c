@@ -161,7 +161,7 @@ static nt_real cast(mover *m, nt_vec2 p, nt_vec2 d, nt_world_shape_hit *hit)
         memset(hit, 0, sizeof *hit);
         return 1;
     }
-    if (!nt__world_cast_shape(m->w, p, m->shape, d, &m->filter, m->shape_ok, hit)) return 1;
+    if (!nt__world_cast_shape(m->w, p, &m->shape, d, &m->filter, m->shape_ok, hit)) return 1;
     return hit->fraction;
 }
 
@@ -382,10 +382,11 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
 
 nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
 {
-    nt_character_result r;
-    memset(&r, 0, sizeof r);
-    if (out) *out = r;
+    /* The result is built in place (a copy of a struct just written field by field
+     * stalls on store forwarding); *out is zero on every error, which all come first. */
+    if (out) memset(out, 0, sizeof *out);
     if (!w || !out) return NT_ERR_INVALID_ARGUMENT;
+    nt_character_result *rp = out;
     nt__character *c = char_of(w, id);
     if (!c) return NT_ERR_INVALID_ID;
     if (!finite2(velocity) || !nt__finite(dt)) return NT_ERR_NON_FINITE;
@@ -402,7 +403,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.b = b;
     m.shape = nt__body_shape(b);
     m.shape_ok = nt__cast_shape_ok(m.shape, w->map->cell);
-    m.filter = nt_default_query_filter();
+    /* nt_default_query_filter, field by field (a returned struct copied in stalls on
+     * store forwarding). */
+    memset(&m.filter, 0, sizeof m.filter);
+    m.filter.tiles = true;
     m.filter.mask = b->mask;
     m.filter.ignore_count = 1;
     m.filter.ignore[0] = id;
@@ -411,7 +415,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.filter.one_way_off = c->dropping != 0;
     m.skip_body = -1;
     m.cos_floor = c->floor_cos;
-    m.r = &r;
+    m.r = rp;
     const nt_vec2 p0 = b->p;
     nt_vec2 p = p0;
     /* Inside the tiles (a tile painted over it, a teleport into a wall): out by the
@@ -436,18 +440,18 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     nt_vec2 v = velocity, wall;
     p = slide_move(&m, p, nt__scale(velocity, dt), &v, &wall);
     /* 2. A step: a wall stopped the move while on a floor. */
-    if ((was_on_floor || r.on_floor) && wall.x != 0) {
+    if ((was_on_floor || rp->on_floor) && wall.x != 0) {
         nt_vec2 q;
         if (step_up(&m, p, wall, &q)) {
             p = q;
-            r.stepped_up = true;
+            rp->stepped_up = true;
             /* What stopped it was a step, not a wall: the run goes on. */
             if (v.x == 0) v.x = velocity.x;
         }
     }
     /* 3. Snap down onto the floor it stood on, unless moving up; else, still standing,
      * make sure the floor is still known (a move along a floor need not meet it). */
-    if (was_on_floor && !r.on_floor && velocity.y >= 0) {
+    if (was_on_floor && !rp->on_floor && velocity.y >= 0) {
         nt_world_shape_hit h;
         nt_real reach = nt__max(c->def.snap_cells * w->cell, w->cell * R(2e-3));
         nt_vec2 down = nt_v2(0, reach);
@@ -455,34 +459,34 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         if (t < 1 && classify(&m, h.normal) == SURF_FLOOR) {
             p = nt__add(p, nt__scale(down, t));
             note(&m, SURF_FLOOR, &h);
-            r.snapped = t * reach > w->cell * R(2e-3);
+            rp->snapped = t * reach > w->cell * R(2e-3);
             v = slide_motion(&m, v, h.normal, SURF_FLOOR);
         }
     }
-    r.landed = r.on_floor && !was_on_floor;
+    rp->landed = rp->on_floor && !was_on_floor;
     /* 4. Carried by the platform over this step (it moves by as much in the world step),
      * cast without it; leaving it keeps its velocity. */
-    r.floor_velocity = r.on_floor ? floor_velocity(w, &r) : nt_v2(0, 0);
+    rp->floor_velocity = rp->on_floor ? floor_velocity(w, rp) : nt_v2(0, 0);
     if (platform.x != 0 || platform.y != 0) {
-        nt_character_result keep = r;
+        nt_character_result keep = *rp;
         nt_vec2 ignored = platform;
         m.skip_body = c->floor_body;
         p = slide_move(&m, p, nt__scale(platform, dt), &ignored, &wall);
         m.skip_body = -1;
-        r = keep; /* what the carry met is not the move's */
-        if (!r.on_floor) v = nt__add(v, platform);
+        *rp = keep; /* what the carry met is not the move's */
+        if (!rp->on_floor) v = nt__add(v, platform);
     }
     /* On a floor the floor carries the vertical part: what is left is the run along it
      * (so running up a slope and over its crest does not launch the character, and
      * the next move, not moving up, snaps). */
-    if (r.on_floor) v.y = 0;
+    if (rp->on_floor) v.y = 0;
     /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
     if (c->dropping && !touches_one_way(w, c->body, p, m.shape)) c->dropping = 0;
     /* Casts that start resting on a surface are made with the shape shrunk by that
      * depth: along a curved surface (a quarter pipe) the slides can sink it a little
      * deeper each time, in float. Past half the resting tolerance it is lifted back
      * out by the shortest way, so that no move ends deeper than that. */
-    int met = r.slide_count || r.snapped || r.stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
+    int met = rp->slide_count || rp->snapped || rp->stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
     if (met && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(0.5 * NT_CAST_START_TOLERANCE)) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
@@ -497,11 +501,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);
     b->ntc = 0;
     if (b->gcell >= 0) nt__grid_update(w, c->body);
-    c->on_floor = r.on_floor;
-    c->floor_body = nt_body_id_is_null(r.floor_body) || !r.on_floor ? -1 : r.floor_body.index1 - 1;
-    c->floor_gen = r.floor_body.generation;
-    r.position = p;
-    r.velocity = v;
-    *out = r;
+    c->on_floor = rp->on_floor;
+    c->floor_body = nt_body_id_is_null(rp->floor_body) || !rp->on_floor ? -1 : rp->floor_body.index1 - 1;
+    c->floor_gen = rp->floor_body.generation;
+    rp->position = p;
+    rp->velocity = v;
     return NT_OK;
 }

@@ -469,8 +469,16 @@ nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square 
 /* cast.c: a shape a cast accepts (box or circle, half-sizes in (0, NT_MAX_HALF_CELLS
  * cells]); nt_world_cast_shape with the filter by pointer, and shape_known when the
  * caller checked the shape (the character mover, once a move). */
-int nt__cast_shape_ok(nt_shape s, nt_real cell);
-bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
+static inline int nt__cast_shape_ok(nt_shape s, nt_real cell)
+{
+    nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
+    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
+    if (!nt__finite(s.half.x) || !nt__finite(s.half.y)) return 0;
+    if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
+    return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
+}
+/* out must not be NULL. */
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
                           const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out);
 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
