@@ -25,7 +25,7 @@ typedef struct xing {
 enum { MAX_X = 64 };
 
 typedef struct xings {
-    xing x[MAX_X];
+    xing x[MAX_X + 1]; /* the last: scratch, written when the list is full */
     int n;
 } xings;
 
@@ -48,14 +48,16 @@ typedef struct hitrec {
     nt_vec2 lo, hi; /* bounds of what was hit (for the contact point) */
 } hitrec;
 
+/* Kept when t is in [-1, 1] and the list has room; written either way, counted only
+ * then (no branch: whether a crossing is kept is a coin toss). */
 static inline void add_x(xings *X, nt_real t, nt_real nx, nt_real ny, int circle)
 {
-    if (X->n >= MAX_X || !(t <= 1) || t < -1) return;
-    X->x[X->n].t = t;
-    X->x[X->n].nx = nx;
-    X->x[X->n].ny = ny;
-    X->x[X->n].circle = circle;
-    X->n++;
+    xing *e = &X->x[X->n];
+    e->t = t;
+    e->nx = nx;
+    e->ny = ny;
+    e->circle = circle;
+    X->n += (X->n < MAX_X) & (t <= 1) & (t >= -1);
 }
 
 /* The unit normal of crossing i, against the motion. */
@@ -584,8 +586,9 @@ static void sweep_tiles(caster *c)
              * the first. */
             int tile = nt__map_tile(c->map, x, y);
             if (tile == NT_TILE_EMPTY) continue;
-            nt_real u0, u1;
-            if (slab(p0.y, d.y, (nt_real)y - h.y, (nt_real)y + 1 + h.y, &u0, &u1) && u0 > c->best.t) break;
+            /* The row's slab entry time (slab's t0: the side met first), when moving
+             * across rows. */
+            if (d.y != 0 && ((sy > 0 ? (nt_real)y - h.y : (nt_real)y + 1 + h.y) - p0.y) / d.y > c->best.t) break;
             sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
         }
     }
