@@ -406,6 +406,7 @@ typedef struct caster {
     int tiles;
     int one_way_cells;         /* the world has one-way cells */
     int rx0, ry0, rx1, ry1;    /* the cells of the start box and the box swept (run_cast) */
+    nt__cast_start *start;     /* the tiles' start overlaps, kept across casts; NULL: none */
     hitrec best;
 } caster;
 
@@ -498,25 +499,73 @@ static void set_tile_bounds(hitrec *h, int tile, int x, int y)
 }
 
 /* Start overlaps with the tiles. Returns 1 when the cast is decided (deep). */
+/* One tile's start overlap, in scan order. Returns 1 when the cast is decided. */
+static int start_tile(caster *c, nt_real depth, nt_vec2 n, int x, int y, int tile, nt_real *rest)
+{
+    int had = c->best.kind;
+    if (start_contact(c, depth, n, 1, x, y, -1, rest)) return 1;
+    if (!had && c->best.kind) set_tile_bounds(&c->best, tile, x, y);
+    return 0;
+}
+
+/* Start overlaps with the tiles. Returns 1 when the cast is decided (deep).
+ *
+ * What the scan finds depends on the start (p0, the shape), the map and its one-way
+ * cells, and the filter's one_way_off, not on the motion: a cast from the same place
+ * in the same world (the mover's next slide after meeting a surface at t = 0) replays
+ * the overlaps that count (deeper than tiny0, not ignored one-way cells) in the same
+ * order instead of measuring them again. The caller keeps c->start valid only for one
+ * world state and one filter (one move). */
 static int start_tiles(caster *c, nt_real *rest)
 {
+    nt__cast_start *sc = c->start;
+    nt_vec2 h = c->obj.half, p0 = c->p0;
+    if (sc && sc->valid && same_bits(sc->p0.x, p0.x) && same_bits(sc->p0.y, p0.y) && same_bits(sc->half.x, h.x) &&
+        same_bits(sc->half.y, h.y)) {
+        for (int i = 0; i < sc->n; i++)
+            if (start_tile(c, sc->e[i].depth, sc->e[i].n, sc->e[i].x, sc->e[i].y, sc->e[i].tile, rest)) return 1;
+        return 0;
+    }
+    if (sc) sc->valid = 0, sc->n = 0;
+    int keep = sc != NULL;
     /* The start box's cells; the swept box's range starts (ends) with them on the
      * side the motion leaves from: the same sums, the same floors. */
-    nt_vec2 h = c->obj.half, p0 = c->p0, p1 = nt__add(c->p0, c->d);
+    nt_vec2 p1 = nt__add(c->p0, c->d);
     int x0 = p0.x <= p1.x ? c->rx0 : nt__floor_int(p0.x - h.x), x1 = p0.x >= p1.x ? c->rx1 : nt__floor_int(p0.x + h.x);
     int y0 = p0.y <= p1.y ? c->ry0 : nt__floor_int(p0.y - h.y), y1 = p0.y >= p1.y ? c->ry1 : nt__floor_int(p0.y + h.y);
-    for (int y = y0; y <= y1; y++)
+    int decided = 0;
+    for (int y = y0; y <= y1 && !decided; y++)
         for (int x = x0; x <= x1; x++) {
             nt_vec2 n;
             /* An EMPTY cell overlaps nothing: no depth, no contact. */
-            if (nt__map_tile(c->map, x, y) == NT_TILE_EMPTY || cell_skipped(c, x, y)) continue;
+            int tile = nt__map_tile(c->map, x, y);
+            if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) continue;
             nt_real depth = tile_start_depth(c, x, y, &n);
             if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
-            int had = c->best.kind;
-            if (start_contact(c, depth, n, 1, x, y, -1, rest)) return 1;
-            if (!had && c->best.kind) set_tile_bounds(&c->best, nt__map_tile(c->map, x, y), x, y);
+            if (depth <= c->tiny0) continue; /* start_contact: no contact */
+            if (keep) {
+                if (sc->n < NT__CAST_START_MAX) {
+                    sc->e[sc->n].depth = depth;
+                    sc->e[sc->n].n = n;
+                    sc->e[sc->n].x = x;
+                    sc->e[sc->n].y = y;
+                    sc->e[sc->n].tile = tile;
+                    sc->n++;
+                } else {
+                    keep = 0;
+                }
+            }
+            if (start_tile(c, depth, n, x, y, tile, rest)) {
+                decided = 1;
+                break;
+            }
         }
-    return 0;
+    if (keep) {
+        sc->valid = 1;
+        sc->p0 = p0;
+        sc->half = h;
+    }
+    return decided;
 }
 
 /* The sweep against one tile cell (not EMPTY). */
@@ -759,6 +808,7 @@ static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shap
     c->map = map;
     c->world = NULL;
     c->filter = NULL;
+    c->start = NULL;
     c->tiles = 1;
     c->one_way_cells = 0;
     c->p0 = nt_v2(pos.x * ic, pos.y * ic);
@@ -790,13 +840,13 @@ bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_
                          nt_query_filter filter, nt_world_shape_hit *out)
 {
     nt_world_shape_hit scratch;
-    return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, out ? out : &scratch);
+    return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, NULL, out ? out : &scratch);
 }
 
 /* The result is written in place, zero until a hit is known (a copy of a struct just
  * written field by field stalls on store forwarding). */
 bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
-                          const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out)
+                          const nt_query_filter *filter, int shape_known, nt__cast_start *start, nt_world_shape_hit *out)
 {
     nt_world_shape_hit *r = out;
     memset(r, 0, sizeof *r);
@@ -805,6 +855,7 @@ bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *sh
     if (!setup(&c, world->map, pos, shape, translation, shape_known)) return false;
     c.world = world;
     c.filter = filter;
+    c.start = start;
     c.tiles = filter->tiles;
     c.one_way_cells = world->oneway_count > 0;
     if (!run_cast(&c)) return false;

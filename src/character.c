@@ -136,6 +136,7 @@ typedef struct mover {
     nt_query_filter filter;
     int32_t skip_body; /* a body the current cast ignores (the platform being ridden), -1 none */
     int shape_ok;      /* the shape is one casts accept (checked once a move) */
+    nt__cast_start start; /* the last cast's start overlaps with the tiles (one move: one world, one filter) */
     nt_real cos_floor;
     int on_ground;     /* stood on a floor before the move, or met one during it */
     nt_character_result *r;
@@ -161,7 +162,7 @@ static nt_real cast(mover *m, nt_vec2 p, nt_vec2 d, nt_world_shape_hit *hit)
         memset(hit, 0, sizeof *hit);
         return 1;
     }
-    if (!nt__world_cast_shape(m->w, p, &m->shape, d, &m->filter, m->shape_ok, hit)) return 1;
+    if (!nt__world_cast_shape(m->w, p, &m->shape, d, &m->filter, m->shape_ok, &m->start, hit)) return 1;
     return hit->fraction;
 }
 
@@ -403,6 +404,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.b = b;
     m.shape = nt__body_shape(b);
     m.shape_ok = nt__cast_shape_ok(m.shape, w->map->cell);
+    m.start.valid = 0;
     /* nt_default_query_filter, field by field (a returned struct copied in stalls on
      * store forwarding). */
     memset(&m.filter, 0, sizeof m.filter);

@@ -479,9 +479,24 @@ static inline int nt__cast_shape_ok(nt_shape s, nt_real cell)
     if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
     return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
 }
-/* out must not be NULL. */
+/* The tiles' start overlaps of a cast (cell units), for the next cast from the same
+ * place in the same world with the same filter (start_tiles in cast.c). valid = 0:
+ * none kept. */
+#define NT__CAST_START_MAX 8
+typedef struct nt__cast_start {
+    int valid;
+    nt_vec2 p0, half; /* where and what was scanned */
+    int n;
+    struct {
+        nt_real depth;
+        nt_vec2 n;
+        int x, y, tile;
+    } e[NT__CAST_START_MAX]; /* the overlaps that count, in scan order */
+} nt__cast_start;
+/* out must not be NULL; start: NULL, or kept by the caller for one world state and
+ * one filter. */
 bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
-                          const nt_query_filter *filter, int shape_known, nt_world_shape_hit *out);
+                          const nt_query_filter *filter, int shape_known, nt__cast_start *start, nt_world_shape_hit *out);
 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);
