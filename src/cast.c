@@ -639,6 +639,9 @@ static void sweep_tiles(caster *c)
              * across rows. */
             if (d.y != 0 && ((sy > 0 ? (nt_real)y - h.y : (nt_real)y + 1 + h.y) - p0.y) / d.y > c->best.t) break;
             sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
+            /* An entry is never before 0 and replaces the best only when earlier: a
+             * hit at 0 (a floor met at once) is the answer. */
+            if (c->best.t <= 0) return;
         }
     }
 }
