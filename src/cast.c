@@ -262,27 +262,71 @@ static int round_hull_missed(const nt_tile_info *ti, const seg *s, nt_vec2 h)
     return lo > hi;
 }
 
+/* halfplanes_entry for a box against a POLYGON tile: the half-planes of tile_entry's
+ * table (the bounds grown by the box, then the slope's), with the products by the
+ * table's 0 and +-1 left out: n . a for n = (-1, 0) is (-1) a.x + 0 a.y, which is -a.x
+ * (adding a zero to a non-zero sum changes nothing, and when a.x is zero the zero's
+ * sign does not reach the result: e + a.x and e - (-a.x + 0) are both +0 for e = +0,
+ * and e otherwise). Same values, same order, same answer. */
+static int poly_entry(const nt_tile_info *ti, const nt__tile_geom *g, const seg *s, nt_vec2 h, int one_way,
+                      nt_real *t_out, nt_vec2 *n_out)
+{
+    const nt_real ax = s->a.x, ay = s->a.y, dx = s->d.x, dy = s->d.y;
+    nt_real e[5], gap[5], den[5];
+    e[0] = h.x - ti->bounds_min.x, gap[0] = e[0] + ax, den[0] = -dx;
+    e[1] = ti->bounds_max.x + h.x, gap[1] = e[1] - ax, den[1] = dx;
+    e[2] = h.y - ti->bounds_min.y, gap[2] = e[2] + ay, den[2] = -dy;
+    e[3] = ti->bounds_max.y + h.y, gap[3] = e[3] - ay, den[3] = dy;
+    int nl = 4;
+    nt_real snx = 0, sny = 0;
+    if (g->has_slope) {
+        nt_real ux = g->slope[0], uy = g->slope[1];
+        snx = g->slope[4], sny = g->slope[5];
+        e[4] = (g->slope[2] + h.x * nt__fabs(ux) + h.y * nt__fabs(uy)) * g->slope[3];
+        gap[4] = e[4] - (snx * ax + sny * ay);
+        den[4] = snx * dx + sny * dy;
+        nl = 5;
+    }
+    nt_real tin = -NT_REAL_MAX, tout = NT_REAL_MAX, nearest = NT_REAL_MAX;
+    int in_i = -1, near_i = 0;
+    for (int i = 0; i < nl; i++) {
+        if (gap[i] < nearest) nearest = gap[i], near_i = i;
+        if (den[i] == 0) {
+            if (gap[i] <= 0) return 0;
+            continue;
+        }
+        nt_real t = gap[i] / den[i];
+        if (den[i] < 0) {
+            if (t > tin) tin = t, in_i = i;
+        } else if (t < tout) {
+            tout = t;
+        }
+    }
+    nt_real lo = nt__max(tin, 0), hi = nt__min(tout, 1);
+    if (!(lo < hi) || !(lo < s->tmax)) return 0;
+    nt_real mid = R(0.5) * (lo + hi);
+    nt_real px = ax + dx * mid, py = ay + dy * mid;
+    nt_real depth = nt__min(NT_REAL_MAX, e[0] + px);
+    depth = nt__min(depth, e[1] - px);
+    depth = nt__min(depth, e[2] + py);
+    depth = nt__min(depth, e[3] - py);
+    if (nl == 5) depth = nt__min(depth, e[4] - (snx * px + sny * py));
+    if (!(depth > s->tiny + lo * s->tiny_per_t)) return 0;
+    int i = in_i >= 0 ? in_i : near_i;
+    static const nt_real axis_n[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    nt_vec2 n = i < 4 ? nt_v2(axis_n[i][0], axis_n[i][1]) : nt_v2(snx, sny);
+    if (one_way && !(n.y < 0)) return 0; /* a convex region is entered once */
+    *t_out = lo;
+    *n_out = n;
+    return 1;
+}
+
 /* The segment (local to the tile's cell) against one tile. */
 static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
 {
     const nt_tile_info *ti = &nt__tiles[tile];
     nt_vec2 h = obj.half;
-    if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) {
-        const nt__tile_geom *g = &nt__geom[tile];
-        nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
-                           {1, 0, ti->bounds_max.x + h.x},
-                           {0, -1, h.y - ti->bounds_min.y},
-                           {0, 1, ti->bounds_max.y + h.y}};
-        int nl = 4;
-        if (g->has_slope) {
-            nt_real ux = g->slope[0], uy = g->slope[1];
-            L[4][0] = g->slope[4];
-            L[4][1] = g->slope[5];
-            L[4][2] = (g->slope[2] + h.x * nt__fabs(ux) + h.y * nt__fabs(uy)) * g->slope[3];
-            nl = 5;
-        }
-        return halfplanes_entry((const nt_real(*)[3])L, nl, s, one_way, t, n);
-    }
+    if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) return poly_entry(ti, &nt__geom[tile], s, h, one_way, t, n);
     if (obj.type == NT_SHAPE_AABB && round_hull_missed(ti, s, h)) return 0;
     xings X;
     X.n = 0;

@@ -395,9 +395,15 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     nt__body *b = &w->bodies[c->body];
     /* The speed limit of the world step. */
     nt_real maxd = w->def.max_cells_per_step * w->cell, sp2 = nt__dot(velocity, velocity);
-    /* A speed or a displacement too large for nt_real: its direction at the limit. */
-    if (!(sp2 <= NT_REAL_MAX) || !(nt__sqrt(sp2) * dt <= NT_REAL_MAX)) velocity = nt__clamp_overflow(velocity, maxd / dt);
-    else if (!(sp2 * dt * dt <= maxd * maxd)) velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    /* Within the limit (the usual case, no square root: sqrt(sp2) * dt is then finite
+     * too, its square being at most maxd^2 <= NT_REAL_MAX), else: a speed or a
+     * displacement too large for nt_real, its direction at the limit; or over it. */
+    if (sp2 <= NT_REAL_MAX && maxd * maxd <= NT_REAL_MAX && sp2 * dt * dt <= maxd * maxd) {
+    } else if (!(sp2 <= NT_REAL_MAX) || !(nt__sqrt(sp2) * dt <= NT_REAL_MAX)) {
+        velocity = nt__clamp_overflow(velocity, maxd / dt);
+    } else if (!(sp2 * dt * dt <= maxd * maxd)) {
+        velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    }
     mover m;
     m.w = w;
     m.c = c;
