@@ -143,22 +143,26 @@ static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
 /* First entry from the crossings: see the top of the file. A run of pieces inside
  * (depth > 0) is an entry when it gets deeper than rounding somewhere (at a piece's
  * middle): a short first piece, cut off by a curve that bounds nothing there, must
- * not delay the entry. one_way: only entries through a surface facing up count. */
-static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt_real *t_out, nt_vec2 *n_out)
+ * not delay the entry. one_way: only entries through a surface facing up count.
+ *
+ * The crossings are walked in time order without sorting them (the walk seldom
+ * passes more than two or three): each step takes the earliest crossing after the
+ * last one, equal times being one boundary. The normal is that of the crossing
+ * nearest to the run's start, the first in time order (then in the order listed) on
+ * ties, as a stable sort would put it. */
+static int pieces_entry(const xings *X, const seg *s, const region *g, int one_way, nt_real *t_out, nt_vec2 *n_out)
 {
-    for (int i = 1; i < X->n; i++) /* insertion sort, stable: same bits on every run */
-        for (int j = i; j > 0 && X->x[j].t < X->x[j - 1].t; j--) {
-            xing tmp = X->x[j];
-            X->x[j] = X->x[j - 1];
-            X->x[j - 1] = tmp;
-        }
     nt_real prev = 0, run_start = 0, run_depth = 0;
     nt_vec2 run_n = nt_v2(0, 0);
     int in_run = 0;
-    for (int k = 0; k <= X->n; k++) {
+    for (;;) {
         if (!in_run && prev >= s->tmax) break;
-        nt_real b = k < X->n ? X->x[k].t : 1;
-        if (!(b > prev) && k < X->n) continue;
+        nt_real b = 1;
+        int last = 1;
+        for (int i = 0; i < X->n; i++) {
+            nt_real t = X->x[i].t;
+            if (t > prev && (last || t < b)) b = t, last = 0;
+        }
         nt_vec2 mn = nt_v2(0, 0);
         nt_real depth = 0;
         if (b > prev) {
@@ -169,15 +173,15 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
             if (!in_run) in_run = 1, run_start = prev, run_depth = 0, run_n = mn;
             run_depth = nt__max(run_depth, depth);
         }
-        if (in_run && (depth <= 0 || k == X->n)) {
+        if (in_run && (depth <= 0 || last)) {
             in_run = 0;
             if (run_depth > s->tiny + run_start * s->tiny_per_t) {
                 /* The curve crossed nearest to the run's start bounds it there. */
-                nt_real best = NT_REAL_MAX;
+                nt_real best = NT_REAL_MAX, best_t = 0;
                 int bi = -1;
                 for (int i = 0; i < X->n; i++) {
-                    nt_real e = nt__fabs(X->x[i].t - run_start);
-                    if (e < best) best = e, bi = i;
+                    nt_real t = X->x[i].t, e = nt__fabs(t - run_start);
+                    if (e < best || (e == best && t < best_t)) best = e, best_t = t, bi = i;
                 }
                 nt_vec2 n = bi >= 0 ? xing_normal(X, s, bi) : run_n;
                 if (!one_way || n.y < 0) {
@@ -188,6 +192,7 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
             }
         }
         prev = nt__max(prev, b);
+        if (last) break;
     }
     return 0;
 }
