@@ -134,7 +134,11 @@ typedef struct region {
 static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
 {
     nt_mtv m;
-    int hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
+    int hit;
+    if (g->tile >= 0 && g->obj.type == NT_SHAPE_AABB) /* nt_collide_tile_shape's own call for a box */
+        hit = nt__collide_tile_aabb_m(g->tile, p, g->obj.half, 0, &m) == NT__PUSH;
+    else
+        hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
     if (!hit) return 0;
     *n = m.normal;
     return m.depth;
@@ -327,8 +331,9 @@ static int poly_entry(const nt_tile_info *ti, const nt__tile_geom *g, const seg 
 }
 
 /* The segment (local to the tile's cell) against one tile. */
-static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
+static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way, nt_real *t, nt_vec2 *n)
 {
+    const nt_shape obj = *obj_p;
     const nt_tile_info *ti = &nt__tiles[tile];
     nt_vec2 h = obj.half;
     if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) return poly_entry(ti, &nt__geom[tile], s, h, one_way, t, n);
@@ -634,7 +639,7 @@ static void sweep_cell(caster *c, int x, int y, int tile, nt_real tmax)
     s.tiny_per_t = c->tiny_per_t;
     nt_real t;
     nt_vec2 n;
-    if (tile_entry(tile, &s, c->sweep, one_way, &t, &n) && t < c->best.t) {
+    if (tile_entry(tile, &s, &c->sweep, one_way, &t, &n) && t < c->best.t) {
         c->best.t = t;
         c->best.n = n;
         c->best.kind = 1;

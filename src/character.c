@@ -495,7 +495,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * deeper each time, in float. Past half the resting tolerance it is lifted back
      * out by the shortest way, so that no move ends deeper than that. */
     int met = rp->slide_count || rp->snapped || rp->stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
-    if (met && nt__map_depth_exceeds(solid, p, m.shape, w->cell * R(0.5 * NT_CAST_START_TOLERANCE))) {
+    if (met && nt__map_depth_exceeds(solid, p, &m.shape, w->cell * R(0.5 * NT_CAST_START_TOLERANCE))) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
         free_end = nt_map_overlap_depth(solid, p, m.shape) <= w->cell * R(NT_CAST_START_TOLERANCE);

@@ -158,7 +158,7 @@ static inline int nt__map_open3(const nt_map *map, int x, int y)
 /* Cell data for any coordinate: cells outside the map are FULL border cells. */
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
 /* nt_map_overlap_depth(map, pos, shape) > limit, for limit >= 0 (map.c). */
-int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_real limit);
+int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_real limit); /* shape by pointer: no struct in registers */
 
 static inline int nt__map_tile(const nt_map *map, int x, int y)
 {

@@ -1227,8 +1227,9 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
  * tile's bounds along either axis: the routines list those pushes as candidates and
  * take the shortest (POLYGON tiles with these very sums; the round ones in a mirrored
  * frame, equal to within a few units in the last place of 1, hence the margin). */
-int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_real limit)
+int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_real limit)
 {
+    const nt_shape shape = *shape_p;
     nt_real ic = map->inv_cell;
     nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
     if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;
