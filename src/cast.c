@@ -282,6 +282,7 @@ static int poly_entry(const nt_tile_info *ti, const nt__tile_geom *g, const seg 
 {
     const nt_real ax = s->a.x, ay = s->a.y, dx = s->d.x, dy = s->d.y;
     nt_real e[5], gap[5], den[5];
+    e[4] = gap[4] = den[4] = 0; /* set below with a slope (compilers cannot always tell) */
     e[0] = h.x - ti->bounds_min.x, gap[0] = e[0] + ax, den[0] = -dx;
     e[1] = ti->bounds_max.x + h.x, gap[1] = e[1] - ax, den[1] = dx;
     e[2] = h.y - ti->bounds_min.y, gap[2] = e[2] + ay, den[2] = -dy;
@@ -362,7 +363,7 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
          * and each box side running past each tile corner. A crossing equal bit for
          * bit to one listed before it (an axis-aligned edge met by two corners at the
          * same offset, two tile corners on one line) is left out: it bounds no piece
-         * of its own and is never the only nearest. Each edge's normal, n . d and
+         * of its own and is never the only nearest (leaving one in changes nothing). Each edge's normal, n . d and
          * n . a are computed once, as line_x would compute them for every corner. */
         nt_real enx[4], eny[4], eex[4], eey[4], elen[4], eden[4], ena[4], eoff[4][4];
         for (int i = 0; i < nv; i++) {
@@ -382,8 +383,10 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
                 nt_vec2 v = ti->vertices[i];
                 nt_real e = (eex[i] * (v.x - sx) + eey[i] * (v.y - sy)) / elen[i];
                 eoff[i][k] = e;
-                int dup = 0;
-                for (int j = 0; j < k; j++) dup |= same_bits(eoff[i][j], e);
+                /* The corners that share this one's x (k ^ 2) or y (k ^ 1) offset give
+                 * the same line for an axis-aligned edge: compared with those listed
+                 * before it. (A repeat left in would change nothing either.) */
+                int dup = (k >= 2 && same_bits(eoff[i][k - 2], e)) || ((k & 1) && same_bits(eoff[i][k - 1], e));
                 if (!dup) line_x_pre(&X, enx[i], eny[i], eden[i], ena[i], e);
             }
             if (round) circle_x_a(&X, s, A, o.x - sx, o.y - sy, 1);
