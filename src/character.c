@@ -319,6 +319,7 @@ static bool overlap_visit(const nt_world *w, int32_t i, void *ctx)
 static nt_vec2 out_of_bodies(mover *m, nt_vec2 p)
 {
     const nt_world *w = m->w;
+    if (!w->heads || w->grid_bodies == 0) return p; /* no body to visit: nt__grid_visit would find none */
     for (int k = 0; k < 4; k++) {
         overlap_probe q;
         q.m = m;
