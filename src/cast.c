@@ -77,7 +77,11 @@ static nt_vec2 xing_normal(const xings *X, const seg *s, int i)
 static inline void line_x_pre(xings *X, nt_real nx, nt_real ny, nt_real den, nt_real na, nt_real e)
 {
     if (den == 0) return;
-    add_x(X, (e - na) / den, nx, ny, 0);
+    nt_real num = e - na;
+    /* |num| > 2 |den|: the quotient, correctly rounded, is at least 2 in size and
+     * add_x would drop it (most lines of a short segment are far): no division. */
+    if (!(nt__fabs(num) <= 2 * nt__fabs(den))) return;
+    add_x(X, num / den, nx, ny, 0);
 }
 
 /* The line n . p = e (n unit). */
@@ -87,10 +91,21 @@ static inline void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_rea
 }
 
 /* The circle |p - q| = rad; A = d . d. */
-static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real qx, nt_real qy, nt_real rad)
+/* How far from the start a crossing with t in [-1, 1] can lie: |d|, here 1.25 |d|. */
+static inline nt_real circle_reach(nt_real A) { return R(1.25) * nt__sqrt(A); }
+
+/* The circle |p - q| = rad; A = d . d, reach = circle_reach(A). When the start is
+ * farther than reach from the circle, by more than the rounding of the roots, every
+ * root lies beyond t = +-1 and add_x would drop it: they are not computed. The
+ * rounding: near tangency a root's place can be off by about sqrt(3 eps) (|q - a| +
+ * rad), 6e-4 (|q - a| + rad) in float, which the distance itself outgrows beyond
+ * 2 rad; the spare 4e-3 (1 + rad) covers it with room. */
+static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real reach, nt_real qx, nt_real qy, nt_real rad)
 {
     if (!(rad > 0)) return;
     nt_real mx = s->a.x - qx, my = s->a.y - qy;
+    nt_real m2 = mx * mx + my * my, w = reach + R(4e-3) * (1 + rad);
+    if (m2 > (rad + w) * (rad + w) || (rad > w && m2 < (rad - w) * (rad - w))) return;
     nt_real B = mx * s->d.x + my * s->d.y;
     nt_real C = mx * mx + my * my - rad * rad;
     /* B^2 - A C written as A rad^2 - (m x d)^2: no cancellation between two large
@@ -117,7 +132,8 @@ static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real qx, nt_real qy
 
 static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
 {
-    circle_x_a(X, s, s->d.x * s->d.x + s->d.y * s->d.y, qx, qy, rad);
+    nt_real A = s->d.x * s->d.x + s->d.y * s->d.y;
+    circle_x_a(X, s, A, circle_reach(A), qx, qy, rad);
 }
 
 /* The same bits (not only the same value: -0 and +0 differ). */
@@ -375,7 +391,7 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
                 ena[i] = enx[i] * s->a.x + eny[i] * s->a.y;
             }
         }
-        nt_real A = s->d.x * s->d.x + s->d.y * s->d.y;
+        nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, reach = circle_reach(A);
         for (int k = 0; k < 4; k++) {
             nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
             for (int i = 0; i < nv; i++) {
@@ -389,7 +405,7 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
                 int dup = (k >= 2 && same_bits(eoff[i][k - 2], e)) || ((k & 1) && same_bits(eoff[i][k - 1], e));
                 if (!dup) line_x_pre(&X, enx[i], eny[i], eden[i], ena[i], e);
             }
-            if (round) circle_x_a(&X, s, A, o.x - sx, o.y - sy, 1);
+            if (round) circle_x_a(&X, s, A, reach, o.x - sx, o.y - sy, 1);
         }
         nt_real denx = R(1) * s->d.x + R(0) * s->d.y, nax = R(1) * s->a.x + R(0) * s->a.y;
         nt_real deny = R(0) * s->d.x + R(1) * s->d.y, nay = R(0) * s->a.x + R(1) * s->a.y;
