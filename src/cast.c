@@ -780,10 +780,17 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     return true;
 }
 
+/* Can the cast meet a body at all? */
+static inline int cast_sees_bodies(const caster *c)
+{
+    const nt_world *w = c->world;
+    return w && w->heads && w->grid_bodies != 0 && c->filter->mask != 0;
+}
+
 static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
 {
     const nt_world *w = c->world;
-    if (!w || !w->heads || w->grid_bodies == 0 || c->filter->mask == 0) return;
+    if (!cast_sees_bodies(c)) return;
     nt_real cell = w->map->cell;
     nt__grid_visit(w, nt__scale(lo, cell), nt__scale(hi, cell), body_visit, bp);
 }
@@ -853,7 +860,8 @@ static int run_cast(caster *c)
     bp.rest = &rest;
     bp.decided = 0;
     bp.start = 1;
-    visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
+    int bodies = cast_sees_bodies(c);
+    if (bodies) visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
     if (bp.decided) return 1;
     if (c->best.kind) return 1; /* approaching a surface it rests on */
     /* Resting: sweep a shape smaller by the resting depth (and rounding). */
@@ -864,10 +872,12 @@ static int run_cast(caster *c)
     }
     if (tiles) sweep_tiles(c);
     bp.start = 0;
-    nt_vec2 p1 = nt__add(c->p0, c->d);
-    nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
-    nt_vec2 hi = nt_v2(nt__max(c->p0.x, p1.x) + c->obj.half.x, nt__max(c->p0.y, p1.y) + c->obj.half.y);
-    visit_bodies(c, &bp, lo, hi);
+    if (bodies) {
+        nt_vec2 p1 = nt__add(c->p0, c->d);
+        nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
+        nt_vec2 hi = nt_v2(nt__max(c->p0.x, p1.x) + c->obj.half.x, nt__max(c->p0.y, p1.y) + c->obj.half.y);
+        visit_bodies(c, &bp, lo, hi);
+    }
     return c->best.kind != 0 && c->best.t <= 1;
 }
 
@@ -879,7 +889,6 @@ static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shap
 {
     nt_shape shape = *shape_p;
     if (!map || (!shape_known && !nt__cast_shape_ok(shape, map->cell))) return 0;
-    if (!nt__finite(pos.x) || !nt__finite(pos.y) || !nt__finite(translation.x) || !nt__finite(translation.y)) return 0;
     nt_real ic = map->inv_cell;
     c->map = map;
     c->world = NULL;
@@ -891,6 +900,8 @@ static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shap
     c->d = nt_v2(translation.x * ic, translation.y * ic);
     c->obj = shape;
     c->obj.half = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    /* Finite sums: then pos and translation are finite too (a NaN or an infinity among
+     * them makes its sum NaN or infinite, ic being finite and positive). */
     return nt__finite(c->p0.x + c->d.x) && nt__finite(c->p0.y + c->d.y);
 }
 
