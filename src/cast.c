@@ -402,7 +402,7 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
                 /* The corners that share this one's x (k ^ 2) or y (k ^ 1) offset give
                  * the same line for an axis-aligned edge: compared with those listed
                  * before it. (A repeat left in would change nothing either.) */
-                int dup = (k >= 2 && same_bits(eoff[i][k - 2], e)) || ((k & 1) && same_bits(eoff[i][k - 1], e));
+                int dup = ((k >> 1) & same_bits(eoff[i][k & 1], e)) | ((k & 1) & same_bits(eoff[i][k & 2], e));
                 if (!dup) line_x_pre(&X, enx[i], eny[i], eden[i], ena[i], e);
             }
             if (round) circle_x_a(&X, s, A, reach, o.x - sx, o.y - sy, 1);

@@ -431,7 +431,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * shortest way first, as the world step would free a body; casts from inside
      * solid go nowhere. */
     const nt_map *solid = w->solid ? w->solid : w->map;
-    int checked = c->free_checked && c->free_epoch == w->map_epoch && c->free_p.x == p.x && c->free_p.y == p.y;
+    int checked = c->free_checked & (c->free_epoch == w->map_epoch) & (c->free_p.x == p.x) & (c->free_p.y == p.y);
     if (!checked && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
