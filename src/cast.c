@@ -386,7 +386,8 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
             nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
             eex[i] = -(w.y - v.y), eey[i] = w.x - v.x, elen[i] = nt__sqrt(eex[i] * eex[i] + eey[i] * eey[i]);
             if (elen[i] > 0) {
-                enx[i] = eex[i] / elen[i], eny[i] = eey[i] / elen[i];
+                enx[i] = eex[i], eny[i] = eey[i];
+                if (elen[i] != 1) enx[i] = enx[i] / elen[i], eny[i] = eny[i] / elen[i];
                 eden[i] = enx[i] * s->d.x + eny[i] * s->d.y;
                 ena[i] = enx[i] * s->a.x + eny[i] * s->a.y;
             }
@@ -397,7 +398,8 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
             for (int i = 0; i < nv; i++) {
                 if (!(elen[i] > 0)) continue;
                 nt_vec2 v = ti->vertices[i];
-                nt_real e = (eex[i] * (v.x - sx) + eey[i] * (v.y - sy)) / elen[i];
+                nt_real e = eex[i] * (v.x - sx) + eey[i] * (v.y - sy);
+                if (elen[i] != 1) e = e / elen[i]; /* x / 1 is x, bit for bit */
                 eoff[i][k] = e;
                 /* The corners that share this one's x (k ^ 2) or y (k ^ 1) offset give
                  * the same line for an axis-aligned edge: compared with those listed
