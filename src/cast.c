@@ -834,6 +834,19 @@ static int cells_empty(const nt_map *map, int x0, int y0, int x1, int y1)
 /* The whole cast. Returns 1 on a hit (c->best). */
 static int run_cast(caster *c)
 {
+    /* Every cell the start and the sweep can look at (the start box and the swept
+     * box, obj being at least the swept shape) EMPTY: neither finds anything there. */
+    int tiles = c->tiles;
+    if (tiles) {
+        nt_vec2 h = c->obj.half, p1 = nt__add(c->p0, c->d);
+        c->rx0 = nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), c->ry0 = nt__floor_int(nt__min(c->p0.y, p1.y) - h.y);
+        c->rx1 = nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), c->ry1 = nt__floor_int(nt__max(c->p0.y, p1.y) + h.y);
+        tiles = !cells_empty(c->map, c->rx0, c->ry0, c->rx1, c->ry1);
+    }
+    /* Nothing to meet (no tile there, no body to see): the end, as the passes below
+     * would find. */
+    int bodies = cast_sees_bodies(c);
+    if (!tiles && !bodies) return 0;
     /* Rounding: 16 units in the last place of the start's coordinates, and of the way
      * travelled (a long cast must not make what is near the start look shallow). */
     nt_real mag0 = nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y));
@@ -847,22 +860,12 @@ static int run_cast(caster *c)
     c->best.body = -1;
     c->best.lo = c->best.hi = nt_v2(0, 0);
     nt_real rest = 0;
-    /* Every cell the start and the sweep can look at (the start box and the swept
-     * box, obj being at least the swept shape) EMPTY: neither finds anything there. */
-    int tiles = c->tiles;
-    if (tiles) {
-        nt_vec2 h = c->obj.half, p1 = nt__add(c->p0, c->d);
-        c->rx0 = nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), c->ry0 = nt__floor_int(nt__min(c->p0.y, p1.y) - h.y);
-        c->rx1 = nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), c->ry1 = nt__floor_int(nt__max(c->p0.y, p1.y) + h.y);
-        tiles = !cells_empty(c->map, c->rx0, c->ry0, c->rx1, c->ry1);
-    }
     if (tiles && start_tiles(c, &rest)) return 1;
     body_pass bp;
     bp.c = c;
     bp.rest = &rest;
     bp.decided = 0;
     bp.start = 1;
-    int bodies = cast_sees_bodies(c);
     if (bodies) visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
     if (bp.decided) return 1;
     if (c->best.kind) return 1; /* approaching a surface it rests on */
