@@ -393,14 +393,23 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
             }
         }
         nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, reach = circle_reach(A);
+        /* Each corner's offset along each edge, edge by edge (one test of the length
+         * per edge); the crossings below are listed corner by corner as before. */
+        for (int i = 0; i < nv; i++) {
+            if (!(elen[i] > 0)) continue;
+            nt_vec2 v = ti->vertices[i];
+            for (int k = 0; k < 4; k++) {
+                nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
+                eoff[i][k] = eex[i] * (v.x - sx) + eey[i] * (v.y - sy);
+            }
+            if (elen[i] != 1) /* x / 1 is x, bit for bit */
+                for (int k = 0; k < 4; k++) eoff[i][k] = eoff[i][k] / elen[i];
+        }
         for (int k = 0; k < 4; k++) {
             nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
             for (int i = 0; i < nv; i++) {
                 if (!(elen[i] > 0)) continue;
-                nt_vec2 v = ti->vertices[i];
-                nt_real e = eex[i] * (v.x - sx) + eey[i] * (v.y - sy);
-                if (elen[i] != 1) e = e / elen[i]; /* x / 1 is x, bit for bit */
-                eoff[i][k] = e;
+                nt_real e = eoff[i][k];
                 /* The corners that share this one's x (k ^ 2) or y (k ^ 1) offset give
                  * the same line for an axis-aligned edge: compared with those listed
                  * before it. (A repeat left in would change nothing either.) */
