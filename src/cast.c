@@ -703,6 +703,7 @@ static void sweep_tiles(caster *c)
     int same = same_bits(h.x, c->obj.half.x); /* not shrunk: run_cast's range */
     int cx0 = same ? c->rx0 : nt__floor_int(xa - h.x), cx1 = same ? c->rx1 : nt__floor_int(xb + h.x);
     int sx = d.x < 0 ? -1 : 1, sy = d.y < 0 ? -1 : 1;
+    int polys = c->sweep.type == NT_SHAPE_AABB && (d.x == 0 || d.y == 0); /* see below */
     for (int x = sx > 0 ? cx0 : cx1; sx > 0 ? x <= cx1 : x >= cx0; x += sx) {
         nt_real t0, t1;
         if (!slab(p0.x, d.x, (nt_real)x - h.x, (nt_real)x + 1 + h.x, &t0, &t1)) continue;
@@ -722,6 +723,20 @@ static void sweep_tiles(caster *c)
             /* The row's slab entry time (slab's t0: the side met first), when moving
              * across rows. */
             if (d.y != 0 && ((sy > 0 ? (nt_real)y - h.y : (nt_real)y + 1 + h.y) - p0.y) / d.y > c->best.t) break;
+            /* A box moving along a row or a column of POLYGON tiles it only touches or
+             * clears (a floor under a box sliding on it, a wall beside a box falling):
+             * poly_entry would stop at that axis's half-plane (n . d = 0, not inside)
+             * and answer no entry; the same sums say so here. */
+            if (polys && nt__tiles[tile].cls == NT_CLASS_POLYGON) {
+                const nt_tile_info *ti = &nt__tiles[tile];
+                if (d.y == 0) {
+                    nt_real ay = p0.y - (nt_real)y;
+                    if ((h.y - ti->bounds_min.y) + ay <= 0 || (ti->bounds_max.y + h.y) - ay <= 0) continue;
+                } else if (d.x == 0) {
+                    nt_real ax = p0.x - (nt_real)x;
+                    if ((h.x - ti->bounds_min.x) + ax <= 0 || (ti->bounds_max.x + h.x) - ax <= 0) continue;
+                }
+            }
             sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
             /* An entry is never before 0 and replaces the best only when earlier: a
              * hit at 0 (a floor met at once) is the answer. */
