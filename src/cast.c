@@ -354,6 +354,20 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
     const nt_tile_info *ti = &nt__tiles[tile];
     nt_vec2 h = obj.half;
     if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) return poly_entry(ti, &nt__geom[tile], s, h, one_way, t, n);
+    if (obj.type == NT_SHAPE_AABB && (ti->cls == NT_CLASS_CONVEX || ti->cls == NT_CLASS_CONCAVE)) {
+        /* Moving level (straight up or down), every piece's middle has the start's y
+         * (x): when the box routine's test along that axis (in the tile's canonical
+         * frame, the same sums as aabb_convex and aabb_concave) finds it clear of the
+         * cell there, no piece is inside. */
+        if (s->d.y == 0) {
+            nt_real ky = ti->signy > 0 ? 1 - s->a.y : s->a.y;
+            if (ky + h.y <= 0 || 1 + h.y - ky <= 0) return 0;
+        } else if (s->d.x == 0) {
+            nt_real kx = ti->signx < 0 ? 1 - s->a.x : s->a.x;
+            nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
+            if (kx + h.x <= 0 || dr <= 0) return 0;
+        }
+    }
     if (obj.type == NT_SHAPE_AABB && round_hull_missed(ti, s, h)) return 0;
     xings X;
     X.n = 0;
