@@ -355,18 +355,16 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
     nt_vec2 h = obj.half;
     if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) return poly_entry(ti, &nt__geom[tile], s, h, one_way, t, n);
     if (obj.type == NT_SHAPE_AABB && (ti->cls == NT_CLASS_CONVEX || ti->cls == NT_CLASS_CONCAVE)) {
-        /* Moving level (straight up or down), every piece's middle has the start's y
-         * (x): when the box routine's test along that axis (in the tile's canonical
-         * frame, the same sums as aabb_convex and aabb_concave) finds it clear of the
-         * cell there, no piece is inside. */
-        if (s->d.y == 0) {
-            nt_real ky = ti->signy > 0 ? 1 - s->a.y : s->a.y;
-            if (ky + h.y <= 0 || 1 + h.y - ky <= 0) return 0;
-        } else if (s->d.x == 0) {
-            nt_real kx = ti->signx < 0 ? 1 - s->a.x : s->a.x;
-            nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
-            if (kx + h.x <= 0 || dr <= 0) return 0;
-        }
+        /* Clear of the cell along an axis at the start and not moving back along it:
+         * the box routine's test along that axis (canonical frame: the same sums as
+         * aabb_convex and aabb_concave, per class for x) fails at every piece's middle
+         * too, rounding being monotonic (a middle's coordinate lies on the start's
+         * side), so every region depth is 0 and pieces_entry would answer no entry. */
+        nt_real ky = ti->signy > 0 ? 1 - s->a.y : s->a.y, vy = ti->signy > 0 ? -s->d.y : s->d.y;
+        if ((ky + h.y <= 0 && vy <= 0) || (1 + h.y - ky <= 0 && vy >= 0)) return 0;
+        nt_real kx = ti->signx < 0 ? 1 - s->a.x : s->a.x, vx = ti->signx < 0 ? -s->d.x : s->d.x;
+        nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
+        if ((kx + h.x <= 0 && vx <= 0) || (dr <= 0 && vx >= 0)) return 0;
     }
     if (obj.type == NT_SHAPE_AABB && round_hull_missed(ti, s, h)) return 0;
     xings X;
