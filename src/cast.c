@@ -496,6 +496,8 @@ typedef struct caster {
     const nt_query_filter *filter;
     nt_vec2 p0, d;             /* cell units */
     nt_shape obj;              /* cell units, as given */
+    nt_vec2 pos;               /* the start and the shape in world units, as given */
+    nt_shape shape;
     nt_shape sweep;            /* the shape swept: obj shrunk by the resting depth */
     nt_real tiny0, tol;        /* rounding at the start, and the resting limit */
     nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
@@ -524,6 +526,25 @@ static int cell_skipped(const caster *c, int x, int y)
     return c->filter && c->filter->one_way_off && cell_one_way(c, x, y);
 }
 
+/* A tile's start depth when its masked test pushes (m; u: the plain test, read only
+ * when m is deeper than the tolerance). */
+static nt_real start_push_depth(const caster *c, const nt_mtv *m, const nt_mtv *u, nt_vec2 *n)
+{
+    /* Resting on a corner where a seam meets an exposed edge (a slope's crest beside a
+     * FULL tile): the way out past the seam is deep, but the shape only touches the
+     * tile (plain depth within the tolerance) and the map as a whole agrees. */
+    if (m->depth > c->tol && u->depth <= c->tol) {
+        nt_resolution res;
+        nt_real tw = c->tol * c->map->cell;
+        if (!nt_map_resolve(c->map, c->pos, c->shape, &res) || nt__dot(res.push, res.push) <= tw * tw) {
+            *n = u->normal;
+            return u->depth;
+        }
+    }
+    *n = m->normal;
+    return m->depth;
+}
+
 /* Start overlap of the given shape with one tile, seams ignored as nt_map_resolve
  * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
 static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
@@ -540,12 +561,10 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
          * is needed only for a masked tile's depth. */
         int r = nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, cell.seams, &m);
         if (r == NT__SEPARATE) return 0;
-        if (r == NT__MASKED) {
-            nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, 0, &u);
-            return u.depth <= c->tol ? 0 : NT_REAL_MAX;
-        }
-        *n = m.normal;
-        return m.depth;
+        /* The plain depth: for a masked tile, and for the corner case below. */
+        if (r == NT__MASKED || m.depth > c->tol) nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, 0, &u);
+        if (r == NT__MASKED) return u.depth <= c->tol ? 0 : NT_REAL_MAX;
+        return start_push_depth(c, &m, &u, n);
     }
     /* The overlap itself from the plain test: the masked one measures the way out. */
     if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
@@ -557,8 +576,7 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
          * those sides, give the contacts; only a deep overlap counts here. */
         return u.depth <= c->tol ? 0 : NT_REAL_MAX;
     }
-    *n = m.normal;
-    return m.depth;
+    return start_push_depth(c, &m, &u, n);
 }
 
 /* One start overlap: deep ends the cast, approaching stops it at 0, else it counts
@@ -617,7 +635,7 @@ static int start_tiles(caster *c, nt_real *rest)
     nt__cast_start *sc = c->start;
     nt_vec2 h = c->obj.half, p0 = c->p0;
     if (sc && sc->valid && same_bits(sc->p0.x, p0.x) && same_bits(sc->p0.y, p0.y) && same_bits(sc->half.x, h.x) &&
-        same_bits(sc->half.y, h.y)) {
+        same_bits(sc->half.y, h.y) && same_bits(sc->pos.x, c->pos.x) && same_bits(sc->pos.y, c->pos.y)) {
         for (int i = 0; i < sc->n; i++)
             if (start_tile(c, sc->e[i].depth, sc->e[i].n, sc->e[i].x, sc->e[i].y, sc->e[i].tile, rest)) return 1;
         return 0;
@@ -660,6 +678,7 @@ static int start_tiles(caster *c, nt_real *rest)
         sc->valid = 1;
         sc->p0 = p0;
         sc->half = h;
+        sc->pos = c->pos;
     }
     return decided;
 }
@@ -941,6 +960,8 @@ static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shap
     c->d = nt_v2(translation.x * ic, translation.y * ic);
     c->obj = shape;
     c->obj.half = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    c->pos = pos;
+    c->shape = shape;
     /* Finite sums: then pos and translation are finite too (a NaN or an infinity among
      * them makes its sum NaN or infinite, ic being finite and positive). */
     return nt__finite(c->p0.x + c->d.x) && nt__finite(c->p0.y + c->d.y);

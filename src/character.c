@@ -45,6 +45,13 @@ static nt_status check_def(const nt_character_def *d)
     return NT_OK;
 }
 
+static void set_angle(nt__character *c)
+{
+    double a = (double)c->def.floor_angle;
+    c->floor_cos = (nt_real)cos(a);
+    c->floor_tan = (nt_real)(a < 1.5083775167989393 ? tan(a) : 16.0); /* tan(86.4 deg) = 16 */
+}
+
 /* The character record of a live body, or NULL. */
 static nt__character *char_of(const nt_world *w, nt_body_id id)
 {
@@ -67,7 +74,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     if (w->cold[i].character >= 0) {
         nt__character *c = &w->chars[w->cold[i].character];
         c->def = *def; /* new settings, same state */
-        c->floor_cos = (nt_real)cos((double)def->floor_angle);
+        set_angle(c);
         return NT_OK;
     }
     if (b->type == NT_BODY_STATIC || (b->flags & NT__BF_SENSOR)) return NT_ERR_INVALID_ARGUMENT;
@@ -80,7 +87,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     memset(c, 0, sizeof *c);
     c->body = i;
     c->def = *def;
-    c->floor_cos = (nt_real)cos((double)def->floor_angle);
+    set_angle(c);
     c->type = b->type;
     c->floor_body = -1;
     w->cold[i].character = w->char_count++;
@@ -143,7 +150,7 @@ typedef struct mover {
 } mover;
 
 /* Which bodies stop the character: not itself, not sensors (queries never see them),
- * dynamic ones only with collide_dynamic. */
+ * dynamic ones with collide_dynamic or when under its feet. */
 static bool stops_character(nt_body_id id, void *ctx)
 {
     const mover *m = (const mover *)ctx;
@@ -151,7 +158,12 @@ static bool stops_character(nt_body_id id, void *ctx)
     if (i == m->skip_body) return false;
     /* Both ways, as the world step pairs bodies: the other must take the character too. */
     if (!(m->w->bodies[i].mask & m->b->category)) return false;
-    if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0) return m->c->def.collide_dynamic;
+    if (nt__character_type(m->w, i) == NT_BODY_DYNAMIC && m->w->cold[i].character < 0 && !m->c->def.collide_dynamic) {
+        /* Pushed out of the way, unless wholly below its feet where the move starts:
+         * then it is something to stand on (a crate), not to sink into. */
+        const nt__body *o = &m->w->bodies[i];
+        return o->p.y - o->half.y >= m->b->p.y + m->b->half.y - m->w->cell * R(NT_CAST_START_TOLERANCE);
+    }
     return true;
 }
 
@@ -447,6 +459,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     }
     /* 1. The move, relative to where things are now. */
     nt_vec2 v = velocity, wall;
+    const nt_vec2 p_move = p;
     p = slide_move(&m, p, nt__scale(velocity, dt), &v, &wall);
     /* 2. A step: a wall stopped the move while on a floor. */
     if ((was_on_floor || rp->on_floor) && wall.x != 0) {
@@ -462,10 +475,16 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * make sure the floor is still known (a move along a floor need not meet it). */
     if (was_on_floor && !rp->on_floor && velocity.y >= 0) {
         nt_world_shape_hit h;
-        nt_real reach = nt__max(c->def.snap_cells * w->cell, w->cell * R(2e-3));
+        /* A floor sloping down as steeply as floor_angle falls away by |dx| tan(angle)
+         * under a move dx across: a sloped floor is followed down by that much more
+         * than the snap distance, at any speed (a flat one only by the snap distance). */
+        nt_real snap = nt__max(c->def.snap_cells * w->cell, w->cell * R(2e-3));
+        nt_real across = nt__fabs(p.x - p_move.x);
+        nt_real reach = snap + (c->def.snap_cells > 0 ? across * c->floor_tan : 0);
         nt_vec2 down = nt_v2(0, reach);
         nt_real t = cast(&m, p, down, &h);
-        if (t < 1 && classify(&m, h.normal) == SURF_FLOOR) {
+        if (t < 1 && classify(&m, h.normal) == SURF_FLOOR &&
+            (t * reach <= snap || t * reach * -h.normal.y <= snap * -h.normal.y + across * nt__fabs(h.normal.x))) {
             p = nt__add(p, nt__scale(down, t));
             note(&m, SURF_FLOOR, &h);
             rp->snapped = t * reach > w->cell * R(2e-3);

@@ -201,6 +201,7 @@ enum {
     NT__BF_ALIVE = 8,
     NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
     NT__BF_MOVED = 32,     /* scratch: moved by position correction */
+    NT__BF_SHIFT = 32,     /* scratch, velocity solve to move: a time-of-impact shift (response.c) */
     NT__BF_RESTING = 64,   /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
     NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
@@ -255,6 +256,7 @@ typedef struct nt__body {
     uint8_t glist;             /* NT__LIST_* */
     uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
     uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
+    uint8_t in_solve;          /* this step's velocity solve has a contact on it (response.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];
@@ -278,6 +280,7 @@ typedef struct nt__character {
     uint32_t free_epoch;
     nt_vec2 free_p;
     nt_real floor_cos;         /* cos(def.floor_angle) */
+    nt_real floor_tan;         /* tan(def.floor_angle), at most 16: how far the steepest floor falls per unit across */
     uint32_t floor_gen;
     nt_character_def def;
 } nt__character;
@@ -433,6 +436,23 @@ void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller 
 void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
 nt_material nt__cell_material(const nt_world *w, int x, int y);
 uint32_t nt__cell_flags(const nt_world *w, int x, int y);
+/* The velocity body b enters this step's contact solve with (dt the step): awake
+ * dynamic bodies get gravity and drag (response.c), the others keep theirs. The pair
+ * search predicts with it whether a gap closes this step, which must be the solve's
+ * own answer: the same arithmetic. */
+static inline nt_vec2 nt__solve_velocity(const nt_world *w, const nt__body *b, nt_real dt)
+{
+    nt_vec2 v = b->v;
+    if (b->type != NT_BODY_DYNAMIC || b->awake_slot < 0) return v;
+    v.x += w->def.gravity.x * b->gravity_scale * dt;
+    v.y += w->def.gravity.y * b->gravity_scale * dt;
+    if (b->drag > 0) {
+        nt_real f = 1 / (1 + b->drag * dt);
+        v.x *= f;
+        v.y *= f;
+    }
+    return v;
+}
 static inline bool nt__body_in_grid(const nt__body *b) { return b->mask != 0 && b->category != 0; }
 static inline nt_shape nt__body_shape(const nt__body *b)
 {
@@ -486,6 +506,7 @@ static inline int nt__cast_shape_ok(nt_shape s, nt_real cell)
 typedef struct nt__cast_start {
     int valid;
     nt_vec2 p0, half; /* where and what was scanned */
+    nt_vec2 pos;      /* p0 in world units (the corner case of tile_start_depth resolves there) */
     int n;
     struct {
         nt_real depth;
@@ -500,6 +521,20 @@ bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *sh
 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);
+
+/* Bodies a, b (slots ia < ib) at the very same place have no way apart of their own:
+ * each pair takes one of the four axis directions by its slots (n from a to b), so that
+ * a heap of them created at one point bursts apart rather than stacking along one
+ * line; the depth is their overlap along it (grid.c: contacts; response.c: position
+ * correction). */
+static inline void nt__coincident(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_vec2 *n,
+                                  nt_real *depth)
+{
+    static const signed char dirs[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+    uint32_t k = ((uint32_t)ia * 2654435761u ^ (uint32_t)ib * 40503u) >> 7;
+    *n = nt_v2((nt_real)dirs[k & 3][0], (nt_real)dirs[k & 3][1]);
+    *depth = n->x != 0 ? a->half.x + b->half.x : a->half.y + b->half.y;
+}
 
 /* Both bodies of a contact are still the ones it was made for. */
 static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)

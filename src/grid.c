@@ -289,10 +289,15 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b)
 /* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
  * measured along an axis or between closest points, never over-estimated. */
-static int pair_depth(const nt__body *a, const nt__body *b, nt_real margin, nt_vec2 *n, nt_real *depth)
+static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
+                      nt_real *depth)
 {
     nt_mtv m;
     if (nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) {
+        if (a->p.x == b->p.x && a->p.y == b->p.y) {
+            nt__coincident(a, b, ia, ib, n, depth);
+            return 1;
+        }
         if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) nt__box_axis(a, b, &m);
         *n = nt_v2(-m.normal.x, -m.normal.y);
         *depth = m.depth;
@@ -362,6 +367,21 @@ NT__NOINLINE static int one_way_holds(const nt_world *w, const nt__body *a, cons
     return 1;
 }
 
+/* A character and the dynamic body it stood on at its last move (a crate): the mover
+ * holds it up and carries it along; a contact would squeeze the body between an
+ * infinitely heavy character and what holds it up. */
+NT__NOINLINE static int stands_on(const nt_world *w, int32_t i, int32_t j)
+{
+    for (int s = 0; s < 2; s++) {
+        int32_t c = s ? j : i, o = s ? i : j;
+        int32_t k = w->cold[c].character;
+        if (k >= 0 && w->chars[k].on_floor && w->chars[k].floor_body == o && w->bodies[o].type == NT_BODY_DYNAMIC &&
+            w->bodies[o].generation == w->chars[k].floor_gen)
+            return 1;
+    }
+    return 0;
+}
+
 /* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
 static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
@@ -372,13 +392,14 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_real margin = w->pair_margin + w->pair_dt * nt__sqrt(dvx * dvx + dvy * dvy);
     if (margin > w->cell) margin = w->cell;
     if (!nt__pair_filter(bi, bj)) return 1;
+    if (w->char_count && stands_on(w, i, j)) return 1;
     int32_t a = i < j ? i : j, b = i < j ? j : i;
     const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
     int sensor = (ba->flags | bb->flags) & NT__BF_SENSOR;
     nt_vec2 n;
     nt_real depth;
     /* Sensors only care about real overlap. */
-    if (!pair_depth(ba, bb, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
+    if (!pair_depth(ba, bb, a, b, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
     if (w->one_way_bodies && !sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
     if (w->con_new_count == w->con_new_cap) {
         nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
@@ -398,7 +419,11 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
      * event (and the wake-up of a sleeping partner) is not a step late. */
     int touch = depth > (sensor ? 0 : -nt__skin(w, ba->p));
     if (!touch && !sensor) {
-        nt_real vn = (bb->v.x - ba->v.x) * n.x + (bb->v.y - ba->v.y) * n.y;
+        /* With the velocities the solve starts from (this step's gravity included),
+         * so that a gap the solve closes is a touch here too: else a sleeping body
+         * would not be woken, and would stop the other one like a wall. */
+        nt_vec2 va = nt__solve_velocity(w, ba, w->pair_dt), vb = nt__solve_velocity(w, bb, w->pair_dt);
+        nt_real vn = (vb.x - va.x) * n.x + (vb.y - va.y) * n.y;
         touch = vn * w->pair_dt < depth;
     }
     c->flags = ((ba->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_A : 0u) | ((bb->flags & NT__BF_SENSOR) ? NT__CF_SENSOR_B : 0u) |

@@ -457,6 +457,24 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
             if (clear) {
                 set_single(out, &cs[deepest]);
                 *lower = cs[deepest].depth;
+                /* The push frees the object, but a push made longer by a seam is not
+                 * known to be the shortest way out of the union: across the seam a
+                 * neighbour's free pocket may be nearer (a tiny body buried in a FULL
+                 * tile beside a slope). Past resting depth the bound is then the
+                 * deepest plain (unmasked) overlap, and the caller enumerates the
+                 * curves within reach when the push is longer than that. */
+                if (lb < 0 && *lower > R(0.01)) {
+                    nt_real plain = 0;
+                    for (int i = 0; i < nc; i++) {
+                        nt_mtv m;
+                        int x = cs[i].cx, y = cs[i].cy;
+                        if (tile_test(nt__map_tile(map, x, y), p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) ==
+                                NT__PUSH &&
+                            m.depth > plain)
+                            plain = m.depth;
+                    }
+                    if (plain < *lower) *lower = plain;
+                }
                 return 1;
             }
         }
@@ -483,7 +501,8 @@ typedef struct feat {
     int cx, cy;
 } feat;
 
-enum { MAX_FEATS = 96 };
+/* Enough for the curves of every tile within 2 cells of a small object (5 x 5 cells). */
+enum { MAX_FEATS = 256 };
 
 typedef struct feats {
     feat f[MAX_FEATS];
@@ -1206,12 +1225,20 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         nt_vec2 d, e = escape(map, p, shape, h);
         if (!search_directions(map, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
         nt_real l = nt__len(d);
-        res.push = d;
-        res.contact_count = 1;
-        res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-        res.contacts[0].depth = l;
-        res.contacts[0].cell_x = nt__floor_int(p.x);
-        res.contacts[0].cell_y = nt__floor_int(p.y);
+        /* Deeper than the exact search reached: the sampled way out bounds the
+         * shortest, which the exact search then finds within that reach. */
+        nt_resolution x;
+        memset(&x, 0, sizeof x);
+        if (l > R(0.8) && l < R(2) && enumerate(map, p, shape, h, l * R(1.0001) + R(1e-6), &x)) {
+            res = x;
+        } else {
+            res.push = d;
+            res.contact_count = 1;
+            res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+            res.contacts[0].depth = l;
+            res.contacts[0].cell_x = nt__floor_int(p.x);
+            res.contacts[0].cell_y = nt__floor_int(p.y);
+        }
     }
     /* Back to world units. */
     res.push = nt__scale(res.push, cell);

@@ -261,6 +261,93 @@ static bool ray_convex(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned ma
     return true;
 }
 
+#if !NT_REAL_IS_DOUBLE
+/* ray_concave's verdict redone in double on the same (float) inputs. Near a cusp the
+ * solid between the arc and a side is about y^2 / 2 thick at a distance y from it, so
+ * float's rounding of t (t_tol: a few 1e-6) would pass a ray through a real sliver up
+ * to 3e-3 cell from the cusp as a touch, where double hits. Only float misses come
+ * here, so every float hit keeps its bits. Returns 1 on a hit with its t (< 0: the
+ * start is inside) and whether the entry is the arc (leaving the disc) rather than a
+ * side (masked: the float entry's side is a seam). The arithmetic is that of
+ * clip_sides, disc_interval, t_tol and run_hits, so the verdict is the double build's. */
+static int concave_wide(nt_vec2 c, nt_vec2 p0, nt_vec2 d0, nt_real tmax0, int masked, double *t_out, int *on_arc)
+{
+    const double px = p0.x, py = p0.y, dx = d0.x, dy = d0.y, tmax = tmax0;
+    double A = -DBL_MAX, B = DBL_MAX;
+    for (int s = 0; s < 4; s++) {
+        double s0 = (double)side_nx[s] * px + (double)side_ny[s] * py - (double)side_off[s];
+        double dn = (double)side_nx[s] * dx + (double)side_ny[s] * dy;
+        if (dn == 0) {
+            if (s0 >= 0) return 0;
+            continue;
+        }
+        double t = -s0 / dn;
+        if (dn < 0) {
+            if (t > A) A = t;
+        } else if (t < B) {
+            B = t;
+        }
+    }
+    if (!(A < B)) return 0;
+    const double fx = px - (double)c.x, fy = py - (double)c.y;
+    double d1 = DBL_MAX, d2 = DBL_MAX;
+    const double sd = fabs(dx) + fabs(dy);
+    if (!(sd > 0)) {
+        if (!(fx * fx + fy * fy > 1)) return 0;
+    } else {
+        const double ux = dx / sd, uy = dy / sd;
+        const double a = ux * ux + uy * uy, b = fx * ux + fy * uy, cc = fx * fx + fy * fy - 1;
+        const double disc = b * b - a * cc;
+        if (disc > 8 * DBL_EPSILON * (b * b + fabs(a * cc))) {
+            const double sq = sqrt(disc), q = b >= 0 ? -(b + sq) : -(b - sq);
+            double r1 = q / a, r2 = cc / q;
+            if (r1 > r2) {
+                const double tmp = r1;
+                r1 = r2;
+                r2 = tmp;
+            }
+            d1 = r1 / sd;
+            d2 = r2 / sd;
+        }
+    }
+    const double tol = sd > 0 ? 32 * DBL_EPSILON * (1 + fabs(px) + fabs(py)) / sd : 0;
+    for (int run = 1; run <= 2; run++) {
+        if (run == 2 && d2 == DBL_MAX) break;
+        double lo = run == 1 ? A : (A > d2 ? A : d2), hi = run == 1 ? (B < d1 ? B : d1) : B;
+        if (!(lo < hi)) continue;
+        if (lo < 0 ? hi > 0 : lo < tmax && (hi < tmax ? hi : tmax) - lo > tol) {
+            *t_out = lo;
+            *on_arc = run == 2 && (d2 > A || (d2 == A && masked));
+            return 1;
+        }
+    }
+    return 0;
+}
+#endif
+
+/* A miss of ray_concave's float arithmetic: in float builds, the double verdict. */
+static bool concave_miss(const nt_tile_info *ti, nt_vec2 p, nt_vec2 d, nt_real tmax, const entry *e, nt_real *t_out,
+                         nt_vec2 *n_out)
+{
+#if NT_REAL_IS_DOUBLE
+    (void)ti, (void)p, (void)d, (void)tmax, (void)e, (void)t_out, (void)n_out;
+    return false;
+#else
+    double t;
+    int on_arc;
+    if (!concave_wide(ti->arc_center, p, d, tmax, e->masked, &t, &on_arc)) return false;
+    if (t < 0) {
+        *t_out = 0;
+        *n_out = nt_v2(0, 0);
+        return true;
+    }
+    *t_out = (nt_real)t;
+    if (on_arc) *n_out = unit(nt__scale(nt__add(nt__sub(p, ti->arc_center), nt__scale(d, *t_out)), R(-1)));
+    else *n_out = entry_normal(e, t_tol(p, d));
+    return true;
+#endif
+}
+
 static bool ray_concave(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned mask, nt_real *t_out,
                         nt_vec2 *n_out)
 {
@@ -270,11 +357,11 @@ static bool ray_concave(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned m
     nt_real tout = NT_REAL_MAX;
     if (!clip_sides(0xFu, p, d, mask, &e, &tout)) return false; /* clipped to the cell */
     const nt_real A = e.t, B = tout;
-    if (!(A < B)) return false;
+    if (!(A < B)) return concave_miss(ti, p, d, tmax, &e, t_out, n_out);
     nt_vec2 f = nt__sub(p, ti->arc_center);
     nt_real d1 = NT_REAL_MAX, d2 = NT_REAL_MAX; /* the closed disc's t interval */
     if (d.x == 0 && d.y == 0) {
-        if (!(nt__dot(f, f) > 1)) return false;
+        if (!(nt__dot(f, f) > 1)) return concave_miss(ti, p, d, tmax, &e, t_out, n_out);
     } else if (!disc_interval(p, d, ti->arc_center, &d1, &d2)) {
         d1 = d2 = NT_REAL_MAX; /* misses the disc: nothing removed */
     }
@@ -291,9 +378,9 @@ static bool ray_concave(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned m
         return true;
     }
     /* After the disc: (max(A, d2), B). */
-    if (d2 == NT_REAL_MAX) return false;
+    if (d2 == NT_REAL_MAX) return concave_miss(ti, p, d, tmax, &e, t_out, n_out);
     nt_real lo = nt__max(A, d2);
-    if (!run_hits(lo, B, tmax, tol)) return false;
+    if (!run_hits(lo, B, tmax, tol)) return concave_miss(ti, p, d, tmax, &e, t_out, n_out);
     if (lo < 0) {
         *t_out = 0;
         *n_out = nt_v2(0, 0);

@@ -232,6 +232,53 @@ static void test_floor_never_stops_a_slide(void **state)
  * big), shapes resting skin-deep (2.5e-4 cell): a crest is passed (flat onto the
  * falling slope, and up the slope onto the flat); at a foot the slope or the flat
  * stops the shape where it meets it, with that surface's normal, not before. */
+/* Resting on a crest's corner: a circle touching the corner where a 45-degree slope
+ * meets a FULL tile (the tile's side towards the slope is a seam) from any direction
+ * between the flat's normal and the slope's. Only the corner holds it: no cast starts
+ * inside, and each stops where the reference (the shape made smaller by its start
+ * depth) stops. Regression: the seam made the FULL tile alone look a third of the
+ * radius deep, and a character running up the slope stuck at its crest. */
+static void test_crest_corner(void **state)
+{
+    (void)state;
+    enum { W = 20, H = 12 };
+    int tiles[W * H];
+    memset(tiles, 0, sizeof tiles);
+    for (int x = 0; x < W; x++) tiles[9 * W + x] = NT_TILE_FULL;
+    for (int x = 0; x < 10; x++) tiles[8 * W + x] = NT_TILE_FULL;
+    tiles[8 * W + 10] = NT_TILE_45DEGpn; /* falls to the right from the corner (10, 8) */
+    nt_map *m = make_map(W, H, tiles);
+    const double dirs[][2] = {{1, 0}, {0.7071067811865476, 0.7071067811865476}, {0, -1}, {-1, 0}, {1, -0.3}};
+    int resting = 0;
+    for (int ri = 0; ri < 4; ri++) {
+        double r = 0.2 + 0.1 * ri;
+        /* From 10 degrees off straight up toward the slope's normal: nearer the vertical
+         * the flat's top is within the resting tolerance, and the cast rests on it. */
+        for (int ai = 2; ai < 9; ai++) {
+            double a = 0.7853981633974483 * ai / 9;
+            double cx = 10 + (r - 1e-5) * sin(a), cy = 8 - (r - 1e-5) * cos(a);
+            ref_shape s = ref_circle(r);
+            double d0 = ref_mtv_map(tiles, W, H, s, cx, cy, NULL, NULL);
+            assert_true(d0 < 2e-5); /* the reference: it only touches the corner */
+            for (int di = 0; di < 5; di++) {
+                double dx = dirs[di][0] * 0.5, dy = dirs[di][1] * 0.5;
+                nt_shape_cast_hit hit;
+                bool e = nt_map_cast_shape(m, nt_v2((nt_real)(cx * CELL), (nt_real)(cy * CELL)), to_nt(s),
+                                           nt_v2((nt_real)(dx * CELL), (nt_real)(dy * CELL)), &hit);
+                double tr = 0;
+                bool rr = ref_cast_map(tiles, W, H, ref_shape_grow(s, -d0 - 1e-6), cx, cy, dx, dy, 1e-9, STEP, &tr);
+                assert_int_equal(e, rr);
+                if (!e) continue;
+                assert_false(hit.normal.x == 0 && hit.normal.y == 0); /* not "inside" */
+                resting += hit.fraction == 0;
+                assert_true(fabs((double)hit.fraction - tr) * 0.5 < 1e-3);
+            }
+        }
+    }
+    assert_true(resting > 0); /* moving into the corner or the flat stops it at once */
+    nt_map_destroy(m);
+}
+
 static void test_slope_joins(void **state)
 {
     (void)state;
@@ -718,6 +765,7 @@ int main(void)
         cmocka_unit_test(test_random_maps_against_reference),
         cmocka_unit_test(test_floor_never_stops_a_slide),
         cmocka_unit_test(test_slope_joins),
+        cmocka_unit_test(test_crest_corner),
         cmocka_unit_test(test_world_bodies_against_reference),
         cmocka_unit_test(test_world_tiles_and_bodies),
         cmocka_unit_test(test_filter),

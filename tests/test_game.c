@@ -307,6 +307,162 @@ static void test_elevator(void **state)
     nt_level_destroy(lv);
 }
 
+/* ---------------------------------------------------------------- the mover's gifts */
+
+/* A 40 x 12-cell room: floor row 11, walls at columns 0 and 39. */
+static nt_level *wide_room(const char *head, const char *extra)
+{
+    char text[4096];
+    int n = snprintf(text, sizeof text, "ntile-level 1\nsize 40 12\n%stiles\n", head);
+    for (int y = 0; y < 12; y++) {
+        text[n++] = '|';
+        for (int x = 0; x < 40; x++) text[n++] = (y == 0 || y == 11 || x == 0 || x == 39) ? '#' : '.';
+        text[n++] = '|';
+        text[n++] = '\n';
+    }
+    snprintf(text + n, sizeof text - (size_t)n, "%s", extra);
+    return level_from(text);
+}
+
+/* A plateau 3 cells high and a slope of 45 or 26.6 degrees down onto the floor,
+ * descending toward the room's middle from the left (dir +1) or the right (dir -1).
+ * Returns the column of the first flat cell at the foot. */
+static int build_ramp(nt_game *g, int kind, int dir)
+{
+    const int drop = 3, X0 = 12, F = 11;
+    int x = X0;
+    for (int px = 1; px < X0; px++)
+        for (int y = F - drop; y < F; y++) assert_int_equal(nt_game_set_tile(g, dir > 0 ? px : 39 - px, y, NT_TILE_FULL), NT_OK);
+    for (int k = 0; k < drop; k++) {
+        int y = F - drop + k, w = kind == 45 ? 1 : 2;
+        for (int j = 0; j < w; j++) {
+            int t = kind == 45 ? (dir > 0 ? NT_TILE_45DEGpn : NT_TILE_45DEGnn)
+                               : j == 0 ? (dir > 0 ? NT_TILE_22DEGpnB : NT_TILE_22DEGnnB)
+                                        : (dir > 0 ? NT_TILE_22DEGpnS : NT_TILE_22DEGnnS);
+            int cx = dir > 0 ? x + j : 39 - (x + j);
+            assert_int_equal(nt_game_set_tile(g, cx, y, t), NT_OK);
+            for (int yy = y + 1; yy < F; yy++) assert_int_equal(nt_game_set_tile(g, cx, yy, NT_TILE_FULL), NT_OK);
+        }
+        x += w;
+    }
+    return dir > 0 ? x : 39 - x;
+}
+
+/* The issue's complaint: running down a ramp from a plateau, the old player flew off
+ * it for 15 ticks. On the mover it stays on the floor every tick, down 45 and 26.6
+ * degrees, both ways, at 60 to 400 units/s; and it climbs back up. */
+static void test_player_runs_down_slopes(void **state)
+{
+    (void)state;
+    const double speeds[] = {2.5, 6.25, 10, 16.7}; /* cells/s: 60, 150, 240, 400 units/s */
+    for (int kind = 22; kind <= 45; kind += 23)
+        for (int dir = -1; dir <= 1; dir += 2)
+            for (int si = 0; si < 4; si++) {
+                nt_level *lv = wide_room("", dir > 0 ? "player 96 150\n" : "player 864 150\n");
+                nt_game_def def = nt_default_game_def();
+                def.player.run_speed = (nt_real)speeds[si];
+                def.player.ground_accel = 100;
+                nt_game *g = game_from(lv, &def);
+                int foot = build_ramp(g, kind, dir);
+                steps(g, 0, 40);
+                assert_true(nt_game_get_state(g).on_floor); /* on the plateau */
+                uint32_t key = dir > 0 ? NT_INPUT_RIGHT : NT_INPUT_LEFT;
+                double foot_x = (foot + (dir > 0 ? 3 : -2)) * 24.0;
+                int t = 0, airborne = 0;
+                while ((dir > 0 ? (double)ppos(g).x < foot_x : (double)ppos(g).x > foot_x) && t < 400) {
+                    steps(g, key, 1);
+                    airborne += !nt_game_get_state(g).on_floor;
+                    t++;
+                }
+                assert_true(t < 400);
+                assert_int_equal(airborne, 0);
+                assert_true((double)ppos(g).y > 250); /* down on the floor (its top: y 264) */
+                /* And back up onto the plateau, on the floor all the way. */
+                key = dir > 0 ? NT_INPUT_LEFT : NT_INPUT_RIGHT;
+                for (t = 0; t < 600 && (double)ppos(g).y > 192 - 9; t++) {
+                    steps(g, key, 1);
+                    airborne += !nt_game_get_state(g).on_floor;
+                }
+                assert_int_equal(airborne, 0);
+                assert_true((double)ppos(g).y < 192 - 9); /* on the plateau (its top: y 192) */
+                nt_game_destroy(g);
+                nt_level_destroy(lv);
+            }
+}
+
+/* Down + jump drops through the one-way floor underfoot onto the solid floor below;
+ * nothing else does (standing, jumping, down alone); a jump from below goes up
+ * through it and lands on it. */
+static void test_player_drops_through_one_way(void **state)
+{
+    (void)state;
+    nt_level *lv = wide_room("", "player 200 100\n");
+    nt_game *g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    for (int x = 5; x < 12; x++) {
+        assert_int_equal(nt_game_set_tile(g, x, 8, NT_TILE_HALFu), NT_OK); /* top half solid: y 192..204 */
+        assert_int_equal(nt_world_set_cell_flags(w, x, 8, NT_CELL_ONE_WAY), NT_OK);
+    }
+    steps(g, 0, 40);
+    assert_true(nt_game_get_state(g).on_floor);
+    assert_true(fabs((double)ppos(g).y - 182) < 0.1); /* standing on the one-way floor */
+    steps(g, NT_INPUT_DOWN, 20);
+    steps(g, NT_INPUT_JUMP, 1);
+    steps(g, 0, 60);
+    assert_true(fabs((double)ppos(g).y - 182) < 0.1);
+    steps(g, NT_INPUT_JUMP, 30);
+    steps(g, 0, 60);
+    assert_true(fabs((double)ppos(g).y - 182) < 0.1); /* still on it */
+    steps(g, NT_INPUT_DOWN | NT_INPUT_JUMP, 1);
+    steps(g, 0, 60);
+    assert_true(nt_game_get_state(g).on_floor);
+    assert_true(fabs((double)ppos(g).y - 254) < 0.1); /* on the solid floor (top y 264) */
+    /* A held jump from below rises 3.5 cells (3 are enough): up through the one-way floor, onto it. */
+    for (int i = 0; i < 60; i++) steps(g, NT_INPUT_JUMP, 1);
+    steps(g, 0, 40);
+    assert_true(nt_game_get_state(g).on_floor);
+    assert_true(fabs((double)ppos(g).y - 182) < 0.1);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
+/* A launch pad: a floor tile with a material bouncier than bouncy_threshold throws
+ * the landing player back up at its bounce times the landing speed; an ordinary floor
+ * takes the landing in. */
+static void test_player_launch_pad(void **state)
+{
+    (void)state;
+    nt_level *lv = wide_room("material 1 0 0.8\n", "player 200 60\n");
+    nt_game *g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    for (int x = 6; x < 11; x++) assert_int_equal(nt_world_set_cell_material(w, x, 11, 1), NT_OK);
+    /* Falling 194 units onto the pad: about sqrt(2 g h) = 352 units/s when it lands. */
+    double vy = 0, up = 0;
+    for (int i = 0; i < 60; i++) {
+        steps(g, 0, 1);
+        double v = (double)pvel(g).y;
+        if (vy > 100 && v < 0) {
+            up = -v;
+            break;
+        }
+        vy = v;
+    }
+    /* Thrown back at 0.8 of the landing speed, less a tick of gravity. */
+    assert_true(up > 0);
+    assert_true(fabs(up - 0.8 * vy) < 0.8 * 320 * (double)DT + 1);
+    assert_false(nt_game_get_state(g).on_floor);
+    nt_game_destroy(g);
+    /* The same fall onto the ordinary floor next to it: it lands and stays. */
+    nt_level_destroy(lv);
+    lv = wide_room("material 1 0 0.8\n", "player 600 60\n");
+    g = game_from(lv, NULL);
+    steps(g, 0, 60);
+    assert_true(nt_game_get_state(g).on_floor);
+    assert_true(fabs((double)pvel(g).y) < 1e-6);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
 /* ---------------------------------------------------------------- level objects */
 
 static const char objects_level[] = "ntile-level 1\nsize 20 6\ntiles\n"
@@ -450,13 +606,20 @@ static void test_death(void **state)
     assert_false(st.alive);
     assert_int_equal(st.death_tick, t);
     assert_true((double)ppos(g).x >= 300 && (double)ppos(g).x <= 320); /* in the pit region */
-    /* A dead player is not controlled: pressing left does not turn it round. */
+    /* A dead player is not controlled: pressing left does not turn it round, it
+     * slows down at the ground deceleration (not the skid's) and comes to rest. */
     double vx = (double)pvel(g).x;
-    steps(g, NT_INPUT_LEFT, 3);
-    assert_true((double)pvel(g).x >= vx - 1e-3 - 0.05 * vx);
+    assert_true(vx > 0);
+    steps(g, NT_INPUT_LEFT, 1);
+    double decel = (double)nt_default_player_def().ground_decel * 24;
+    assert_true(fabs((double)pvel(g).x - fmax(vx - decel * (double)DT, 0)) < 1e-3);
+    steps(g, NT_INPUT_LEFT | NT_INPUT_JUMP, 40);
+    assert_true((double)pvel(g).x == 0 && (double)pvel(g).y == 0);
+    nt_vec2 rest = ppos(g);
     /* Nor does it finish the level by drifting into the exit. */
-    steps(g, 0, 100);
+    steps(g, NT_INPUT_RIGHT, 100);
     assert_false(nt_game_get_state(g).complete);
+    assert_true(ppos(g).x == rest.x && ppos(g).y == rest.y); /* at rest, whatever the keys */
     nt_game_destroy(g);
     nt_level_destroy(lv);
     /* A deadly body kills on touch. */
@@ -842,6 +1005,9 @@ int main(void)
         cmocka_unit_test(test_no_jump_in_the_air),
         cmocka_unit_test(test_riders_on_moving_platform),
         cmocka_unit_test(test_elevator),
+        cmocka_unit_test(test_player_runs_down_slopes),
+        cmocka_unit_test(test_player_drops_through_one_way),
+        cmocka_unit_test(test_player_launch_pad),
         cmocka_unit_test(test_gold_exit_and_regions),
         cmocka_unit_test(test_changes_through_the_game),
         cmocka_unit_test(test_death),

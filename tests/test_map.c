@@ -542,6 +542,55 @@ static int big_check(const nt_map *m, const int *tiles, ref_shape rs, double x, 
     return 1;
 }
 
+/* Tiny bodies (half-size 0.003..0.02 cell) buried anywhere in random 5 x 5 maps, as
+ * deep as a cell: the push is the reference's shortest way out of the union. Across a
+ * masked seam a neighbour's free pocket may be the nearest way out; the first case is
+ * the one issue 20 found (ntile pushed (0.988, 0) out of the FULL tile, the pocket of
+ * the 22-degree tile beside it is 0.038 away). */
+static void test_resolve_tiny_buried_vs_reference(void **state)
+{
+    (void)state;
+    enum { W = 5, H = 5 };
+    static const char *const names[W * H] = {"CONVEXpp", "EMPTY",    "45DEGpn", "EMPTY",   "67DEGpnB",
+                                             "67DEGnpS", "67DEGnpB", "EMPTY",   "EMPTY",   "22DEGpnB",
+                                             "FULL",     "EMPTY",    "22DEGnpB", "FULL",   "EMPTY",
+                                             "EMPTY",    "CONCAVEpn", "FULL",   "HALFu",   "45DEGnn",
+                                             "CONCAVEnn", "FULL",    "FULL",    "45DEGnp", "FULL"};
+    int tiles[W * H];
+    uint8_t t8[W * H];
+    for (int i = 0; i < W * H; i++) {
+        tiles[i] = nt_tile_from_name(names[i]);
+        assert_true(tiles[i] >= 0);
+        t8[i] = (uint8_t)tiles[i];
+    }
+    nt_map *m = empty_map(W, H, 1);
+    assert_int_equal(nt_map_set_tiles(m, t8, W * H), NT_OK);
+    int bad = 0, checked = 0;
+    checked += big_check(m, tiles, ref_circle(0.005), 3.016791, 2.989300, BIG_TOL, &bad, NULL, NULL);
+    assert_int_equal(bad, 0);
+    for (int attempt = 0; attempt < 300; attempt++) {
+        for (int i = 0; i < W * H; i++) {
+            double u = urand();
+            tiles[i] = u < 0.3 ? 0 : (u < 0.5 ? 1 : 1 + (int)(urand() * 33));
+            if (tiles[i] > 33) tiles[i] = 33;
+            t8[i] = (uint8_t)tiles[i];
+        }
+        assert_int_equal(nt_map_set_tiles(m, t8, W * H), NT_OK);
+        for (int k = 0; k < 10; k++) {
+            double hw = 0.003 + 0.017 * urand(), hh = 0.003 + 0.017 * urand();
+            ref_shape rs = urand() < 0.5 ? ref_circle(hw) : ref_aabb(hw, hh);
+            int b0 = bad;
+            checked += big_check(m, tiles, rs, 1 + 3 * urand(), 1 + 3 * urand(), BIG_TOL, &bad, NULL, NULL);
+            for (int i = 0; bad != b0 && i < W * H; i++) /* the map, to reproduce */
+                print_message("%s%s", tiles[i] ? nt_tile_get_info(tiles[i])->name : "EMPTY", i % W == W - 1 ? "\n" : ",");
+        }
+    }
+    print_message("tiny buried bodies vs union reference: %d placements, %d wrong\n", checked, bad);
+    assert_true(checked > 1000);
+    assert_int_equal(bad, 0);
+    nt_map_destroy(m);
+}
+
 /* Random 12 x 12 maps (most cells EMPTY, the rest any tile, slopes and round tiles
  * included), objects of half-size 0.5..4 (boxes also thin one way), random centres:
  * the push is the reference's shortest way out of the union, and frees the object. */
@@ -738,6 +787,7 @@ int main(void)
         cmocka_unit_test(test_resolve_concave_corner),
         cmocka_unit_test(test_resolve_free_and_border),
         cmocka_unit_test(test_resolve_vs_union_reference),
+        cmocka_unit_test(test_resolve_tiny_buried_vs_reference),
         cmocka_unit_test(test_resolve_large_long_floor),
         cmocka_unit_test(test_resolve_large_slope_joins),
         cmocka_unit_test(test_resolve_large_vs_union_reference),

@@ -894,6 +894,24 @@ static void test_image_stats(void **state)
     run_free(&r);
 }
 
+/* The player is drawn as it is: white while alive; dark red and crossed out once
+ * dead (ninja-mine.ntr walks onto the mine and dies by tick 40). */
+static void test_dead_player_drawn(void **state)
+{
+    (void)state;
+    const char *alive = scratch_path("alive.bmp"), *dead = scratch_path("dead.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/ninja-mine.ntr", "--frames", "5", "--screenshot", alive, NULL});
+    play_ok((const char *[]){"--replay", "tests/replays/ninja-mine.ntr", "--frames", "120", "--screenshot", dead, NULL});
+    image a = load_bmp(alive), d = load_bmp(dead);
+    assert_true(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_PLAYER) > 50);
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_PLAYER_DEAD), 0);
+    assert_int_equal(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER), 0);
+    assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER_DEAD) > 20);
+    assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_DEAD_MARK) > 5);
+    free(a.px);
+    free(d.px);
+}
+
 /* Bad input: clear messages, non-zero exit, no crash. */
 static void test_errors(void **state)
 {
@@ -959,6 +977,7 @@ int main(void)
         cmocka_unit_test(test_throw_size_key),     cmocka_unit_test(test_large_throw_and_paint),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
+        cmocka_unit_test(test_dead_player_drawn),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

@@ -63,7 +63,8 @@ static double speed(nt_vec2 v) { return sqrt((double)v.x * v.x + (double)v.y * v
 
 /* ---------------------------------------------------------------- integration */
 
-/* Semi-implicit Euler from rest: v_n = n g dt, y_n = y_0 + g dt^2 n (n + 1) / 2. */
+/* Free flight is the exact parabola: from rest, v_n = n g dt and y_n = y_0 + g (n dt)^2 / 2
+ * (semi-implicit Euler would give g dt^2 n (n + 1) / 2, off by g n dt^2 / 2). */
 static void test_free_fall_and_gravity_scale(void **state)
 {
     (void)state;
@@ -78,7 +79,7 @@ static void test_free_fall_and_gravity_scale(void **state)
     const double dt = 1.0 / 60;
     const int n = 240;
     for (int i = 0; i < n; i++) assert_int_equal(nt_world_step(w, (nt_real)dt), NT_OK);
-    double fall = G * dt * dt * n * (n + 1) / 2;
+    double fall = G * dt * dt * n * n / 2;
     assert_true(fabs((double)nt_body_get_position(w, a).y - (2 + fall)) < 1e-5 * (2 + fall));
     assert_true(fabs((double)nt_body_get_velocity(w, a).y - n * G * dt) < 1e-5 * n * G * dt);
     assert_true(fabs((double)nt_body_get_position(w, b).y - (2 + fall / 2)) < 1e-5 * (2 + fall));
@@ -222,9 +223,9 @@ static void test_momentum_angled(void **state)
 /* ---------------------------------------------------------------- bounce heights */
 
 /* A ball dropped from h0 = 10 cells (g = 10 cells/s^2) on a floor rises to
- * h_n = e^(2n) h0. The impact is resolved at the end of the step that reaches the
- * floor, so the error grows like v * dt / h_n: dt = 1 ms for e = 0.9 and 0.5 ms
- * for e = 0.8 (lower last bounce) keep all five bounces within 1%. */
+ * h_n = e^(2n) h0: free flight is the exact parabola and the bounce happens at the
+ * time of impact, so all five bounces are within 1% at game step lengths (1/60 and
+ * 1/40 s) as well as at 1 ms. */
 static void run_bounces(nt_friction_model model, double e, nt_shape shape, double dt)
 {
     nt_world *w = make_world(8, 20, G, model);
@@ -255,6 +256,35 @@ static void test_bounce_heights(void **state)
     (void)state;
     run_bounces(NT_FRICTION_COULOMB, 0.9, nt_shape_circle(R(0.25)), 0.001);
     run_bounces(NT_FRICTION_N, 0.8, nt_shape_aabb(R(0.3), R(0.2)), 0.0005);
+    run_bounces(NT_FRICTION_COULOMB, 0.9, nt_shape_circle(R(0.25)), 1.0 / 60);
+    run_bounces(NT_FRICTION_N, 0.8, nt_shape_aabb(R(0.3), R(0.2)), 1.0 / 40);
+}
+
+/* Bounce 1 keeps the energy: a ball dropped from 10 cells comes back to 10 cells,
+ * within 0.2 %, at every one of 30 bounces (dt 1/40 s). */
+static void test_elastic_bounce_keeps_energy(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(8, 20, G, NT_FRICTION_COULOMB);
+    fill(w, 0, 19, 7, 19, NT_TILE_FULL);
+    const double h0 = 10, floor_y = 19;
+    nt_body_id id = add_body(w, nt_shape_circle(R(0.25)), 4.5, floor_y - 0.25 - h0, 0, 0, 1, 0, 1);
+    double top = 1e9, prev_vy = 0, worst = 0;
+    int n = 0;
+    for (int i = 0; i < 100000 && n < 30; i++) {
+        assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+        nt_vec2 p = nt_body_get_position(w, id), v = nt_body_get_velocity(w, id);
+        if (p.y < top) top = p.y;
+        if (prev_vy < 0 && v.y >= 0) {
+            worst = fmax(worst, fabs(floor_y - 0.25 - top - h0) / h0);
+            n++;
+            top = 1e9;
+        }
+        prev_vy = v.y;
+    }
+    assert_int_equal(n, 30);
+    assert_true(worst < 2e-3);
+    nt_world_destroy(w);
 }
 
 /* ---------------------------------------------------------------- slopes */
@@ -555,6 +585,7 @@ int main(void)
         cmocka_unit_test(test_momentum_head_on),
         cmocka_unit_test(test_momentum_angled),
         cmocka_unit_test(test_bounce_heights),
+        cmocka_unit_test(test_elastic_bounce_keeps_energy),
         cmocka_unit_test(test_coulomb_incline),
         cmocka_unit_test(test_n_model_terminal_speed),
         cmocka_unit_test(test_flat_floor_no_ghost_bumps),

@@ -204,6 +204,59 @@ static void test_sleep_and_wake_on_touch(void **state)
     nt_world_destroy(w);
 }
 
+/* Issue 20: a ball falling on a sleeping box from heights around the one whose last
+ * gap is v dt exactly (6.075: the gap closes with this step's gravity, not without)
+ * lands on the box in the step it meets it, and wakes it in that step. It once
+ * stopped dead up to v dt above the box (0.14 cell at 6.075, the box left asleep: it
+ * stopped the ball like a wall), or 0.07 cell at 6. */
+static void test_fall_on_sleeping_box_sweep(void **state)
+{
+    (void)state;
+    int exact_seen = 0;
+    for (int k = -40; k <= 40; k++) {
+        double h = 6.075 + 0.0025 * k;
+        nt_world *w = make_world(12, 12, NT_FRICTION_COULOMB, R(0.5), true);
+        floor_and_walls(w, 12, 12);
+        nt_body_id a = add(w, nt_shape_aabb(R(0.4), R(0.4)), 4, R(10.6), 1, R(0.5));
+        for (int i = 0; i < 100; i++) nt_world_step(w, DT);
+        assert_false(nt_body_is_awake(w, a));
+        nt_body_id b = add(w, nt_shape_circle(R(0.3)), 4, h, 1, R(0.5));
+        int met = -1;
+        for (int i = 0; i < 120 && met < 0; i++) {
+            double v0 = (double)nt_body_get_velocity(w, b).y;
+            double gap0 = (double)(nt_body_get_position(w, a).y - R(0.4)) - (double)(nt_body_get_position(w, b).y + R(0.3));
+            nt_world_step(w, DT);
+            double v1 = (double)nt_body_get_velocity(w, b).y;
+            double gap = (double)(nt_body_get_position(w, a).y - R(0.4)) - (double)(nt_body_get_position(w, b).y + R(0.3));
+            /* Free fall gains g dt a step; anything less is the box's doing. */
+            if (v1 > v0 + 10 * (double)DT - 1e-3) continue;
+            met = i;
+            /* Only a ball that reaches the box in this step (gap0 < (v0 + g dt) dt, the
+             * step's travel) may be slowed by it, and it ends on the box, within
+             * 1e-3 cell (the contact skin is 2.5e-4), not above it. */
+            if (!(gap0 < (v0 + 10 * (double)DT) * (double)DT + 1e-6) || fabs(gap) > 1e-3)
+                fail_msg("h %.4f: step %d slowed the ball from %.6f to %.6f with the gap %.6f -> %.6f", h, i, v0, v1,
+                         gap0, gap);
+            if (!nt_body_is_awake(w, a)) fail_msg("h %.4f: the box is not woken in the step the ball meets it", h);
+            /* The gap-equals-reach case: without this step's gravity it would not close. */
+            if (gap0 > v0 * (double)DT) exact_seen++;
+        }
+        assert_true(met > 0);
+        /* It stays on the box, and both fall asleep again. */
+        for (int i = 0; i < 30; i++) {
+            nt_world_step(w, DT);
+            double gap = (double)(nt_body_get_position(w, a).y - R(0.4)) - (double)(nt_body_get_position(w, b).y + R(0.3));
+            assert_true(fabs(gap) < 1e-3);
+        }
+        for (int i = 0; i < 300; i++) nt_world_step(w, DT);
+        assert_false(nt_body_is_awake(w, a));
+        assert_false(nt_body_is_awake(w, b));
+        nt_world_destroy(w);
+    }
+    /* The sweep crossed the case the issue names (6.075 among them). */
+    assert_true(exact_seen > 0);
+}
+
 static void test_wake_on_tile_edit_and_api(void **state)
 {
     (void)state;
@@ -390,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_stack_of_20),
         cmocka_unit_test(test_pile_of_500),
         cmocka_unit_test(test_sleep_and_wake_on_touch),
+        cmocka_unit_test(test_fall_on_sleeping_box_sweep),
         cmocka_unit_test(test_wake_on_tile_edit_and_api),
         cmocka_unit_test(test_sleeping_group),
         cmocka_unit_test(test_asleep_bodies_are_not_simulated),

@@ -30,15 +30,21 @@
  *  - Step-up: a wall met while on a floor that is a step no higher than step_cells
  *    (default half a cell: a HALF tile's edge) is climbed without a jump.
  *  - Floor snap: a character that stood on a floor and is not moving up is moved down
- *    onto the floor below, up to snap_cells (default half a cell): it runs down ramps
- *    without leaving them.
+ *    onto the floor below, up to snap_cells (default half a cell), and onto a sloped
+ *    floor up to as much more as that floor falls under the move's horizontal travel
+ *    (|dx| |n.x / n.y| for the floor's normal n, within floor_angle): it runs down
+ *    ramps without leaving them at any speed, while a ledge onto a flat floor more
+ *    than snap_cells below is a fall.
  *  - Moving platforms: standing on a body (a kinematic platform, a crate), it is carried
  *    by that body's velocity over the step (the body moves as much in the world step),
  *    horizontally, vertically and diagonally, down included; leaving it (a jump, a walk
  *    off its edge) adds its velocity to the returned velocity.
  *  - Pushing: dynamic bodies do not stop a character (unless collide_dynamic); the
  *    world step then pushes those it overlaps out of its way, the character counting as
- *    infinitely heavy (as a kinematic body does). Static and kinematic bodies stop it.
+ *    infinitely heavy (as a kinematic body does). A dynamic body wholly below its feet
+ *    where a move starts (its top no higher than the character's bottom, within
+ *    NT_CAST_START_TOLERANCE) is the exception: it stands on it (a crate), carried by
+ *    its velocity. Static and kinematic bodies stop it.
  *  - One-way floors: cells flagged NT_CELL_ONE_WAY and bodies created with is_one_way
  *    (a one-way kinematic platform) hold it from above only; it jumps up through them.
  *    nt_character_drop_through lets it fall through the one it stands on, until it is
@@ -138,12 +144,12 @@ bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_
 /// Character settings: fill with nt_default_character_def() then adjust.
 typedef struct nt_character_def {
     nt_real floor_angle;           ///< radians in [0, pi/2]: steepest surface that is a floor (default 50 degrees)
-    nt_real snap_cells;            ///< floor snap distance in cells, [0, 8] (default 0.5); 0: no snap
+    nt_real snap_cells;            ///< floor snap distance in cells, [0, 8] (default 0.5), plus a sloped floor's fall under the move; 0: no snap
     nt_real step_cells;            ///< highest step climbed without a jump, cells, [0, 8] (default 0.5); 0: none
     bool stop_on_slope;            ///< standing still on a slope does not slide down (default true)
     bool constant_speed_on_slopes; ///< motion along a floor keeps its horizontal length (default false)
     bool slide_on_walls;           ///< on a floor, slide along walls met at an angle (default true)
-    bool collide_dynamic;          ///< dynamic bodies stop the character like walls (default false: it pushes them)
+    bool collide_dynamic;          ///< dynamic bodies stop the character like walls (default false: it pushes them, and stands on those under its feet)
     int max_slides;                ///< casts per move, 1..16 (default 4)
 } nt_character_def;
 

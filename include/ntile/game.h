@@ -69,6 +69,7 @@ typedef struct nt_player_def {
     nt_real max_fall_speed;     ///< cells/s
     nt_real grace_time;         ///< s: a jump still counts this long after leaving a floor or wall
     nt_real bouncy_threshold;   ///< tiles with bounce above this launch the player; others absorb its bounce
+    nt_character_def mover;     ///< the character mover's settings (character.h; default nt_default_character_def())
 } nt_player_def;
 
 /// The defaults described above.

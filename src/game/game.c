@@ -141,6 +141,7 @@ nt_player_def nt_default_player_def(void)
     d.max_fall_speed = 16;
     d.grace_time = (nt_real)0.1;
     d.bouncy_threshold = (nt_real)0.5;
+    d.mover = nt_default_character_def();
     return d;
 }
 
@@ -245,6 +246,8 @@ nt_status nt_game_create(const nt_level *lv, const nt_game_def *def, nt_game **o
         pd.enable_sleep = false;
         nt_body_id pid;
         s = nt_body_create(g->world, &pd, &pid);
+        /* The mover moves it (character.h); the world step pushes what it walks into. */
+        if (s == NT_OK && (s = nt_character_create(g->world, pid, &d.player.mover)) != NT_OK) nt_body_destroy(g->world, pid);
         if (s == NT_OK) {
             g->player_record = g->body_count;
             s = add_record(g, pid, GB_PLAYER, -1);
@@ -369,6 +372,18 @@ static uint64_t mix(uint64_t h, uint64_t v)
     return h;
 }
 
+/* The bits of a real, as an integer (the same on either byte order). */
+static uint64_t real_bits(nt_real x)
+{
+#if NT_REAL_IS_DOUBLE
+    uint64_t u;
+#else
+    uint32_t u;
+#endif
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
 uint64_t nt_game_hash(const nt_game *g)
 {
     uint64_t h = 1469598103934665603ull;
@@ -384,6 +399,12 @@ uint64_t nt_game_hash(const nt_game *g)
     h = mix(h, (uint64_t)(uint32_t)g->ps.since_wall);
     h = mix(h, (uint64_t)(uint32_t)g->ps.wall_away);
     h = mix(h, (uint64_t)g->prev_keys);
+    if (g->player_record >= 0) { /* the controller's own velocity: not in the world */
+        h = mix(h, real_bits(g->ps.vel.x));
+        h = mix(h, real_bits(g->ps.vel.y));
+        h = mix(h, real_bits(g->ps.run));
+        h = mix(h, (uint64_t)g->ps.on_floor);
+    }
     h = mix(h, g->rng.state);
     for (int i = 0; i < g->level->spawner_count; i++) h = mix(h, (uint64_t)(uint32_t)g->spawn_counts[i]);
     return h;
@@ -535,13 +556,13 @@ nt_status nt_game_step(nt_game *g, uint32_t keys, nt_real dt)
     move_path_bodies(g, dt);
     nt_status s = run_spawners(g, pressed);
     if (s != NT_OK) return s;
-    if (g->player_record >= 0 && !g->dead) nt__player_control(g, keys, dt);
+    if (g->player_record >= 0) nt__player_control(g, keys, dt);
     s = nt_world_step(g->world, dt);
     if (s != NT_OK) return s;
     g->time += (double)dt;
     g->prev_keys = keys;
     apply_events(g);
     apply_regions(g);
-    if (g->player_record >= 0 && !g->dead) nt__player_sense(g);
+    if (g->player_record >= 0) nt__player_sense(g);
     return NT_OK;
 }

@@ -2,6 +2,7 @@
 #ifndef NT_GAME_INTERNAL_H
 #define NT_GAME_INTERNAL_H
 
+#include "ntile/character.h"
 #include "ntile/game.h"
 
 /* What made a body. */
@@ -22,9 +23,10 @@ typedef struct player_state {
     int wall_away;       /* +1: the last wall was on the left (jump right); -1: on the right */
     bool on_floor, wall_left, wall_right; /* sensed after the last step */
     nt_vec2 normal;      /* the floor's normal when on_floor */
-    nt_body_id ground;   /* the body the player stands on, else null */
-    nt_vec2 ground_v;    /* its velocity after the last step */
-    nt_body_tile_contacts tc;
+    nt_vec2 vel;         /* the controller's velocity, relative to the floor body stood on */
+    nt_real run;         /* the run speed along floors */
+    nt_vec2 shown;       /* the velocity given to the body after the step (world frame) */
+    nt_character_result move; /* the last move */
 } player_state;
 
 struct nt_game {
@@ -51,10 +53,10 @@ struct nt_game {
 /* The record of a live body, or NULL. */
 game_body *nt__game_record(const nt_game *g, nt_body_id id);
 
-/* Read the player's contacts after a step: floor (tile or body), walls, timers (player.c). */
+/* Read the player's surroundings after a step: floor (from the move), walls, timers (player.c). */
 void nt__player_sense(nt_game *g);
 
-/* Set the player's velocity and gravity scale for the coming step (player.c). */
+/* Steer the player from the keys and move it with the character mover, before the world step (player.c). */
 void nt__player_control(nt_game *g, uint32_t keys, nt_real dt);
 
 #endif

@@ -8,6 +8,8 @@
 #define PG_COLOR_TILE 0x4f5966u        /* fill of straight-edged tiles (engine outline 0x9fa8b3) */
 #define PG_COLOR_TILE_ROUND 0x665a4fu  /* fill of round tiles (engine outline 0xb3a89f) */
 #define PG_COLOR_PLAYER 0xf2f2f2u      /* fill of the player */
+#define PG_COLOR_PLAYER_DEAD 0x8c2a2au /* fill of a dead player (crossed out in PG_COLOR_DEAD_MARK) */
+#define PG_COLOR_DEAD_MARK 0xffd0d0u
 #define PG_COLOR_PANEL 0x000000u       /* HUD background (blended) */
 #define PG_COLOR_TEXT 0xe8e8e8u
 #define PG_COLOR_STRIP 0x1c222au       /* the tile palette's background */

@@ -174,7 +174,15 @@ static void cb_circle(nt_vec2 center, nt_real radius, uint32_t color, void *ctx)
     offset_of(r, center, &dx, &dy, &player);
     double x = sx_of(r, (double)center.x + dx), y = sy_of(r, (double)center.y + dy), rad = (double)radius * r->scale;
     if (r->mode == MODE_BASE) {
-        pg_fill_circle(r->c, x, y, rad, player ? PG_COLOR_PLAYER : PG_BODY_FILL(color));
+        /* A dead player: dark red and crossed out, so that nobody takes it for alive. */
+        int dead = player && r->p->game && !nt_game_get_state(r->p->game).alive;
+        pg_fill_circle(r->c, x, y, rad, !player ? PG_BODY_FILL(color) : dead ? PG_COLOR_PLAYER_DEAD : PG_COLOR_PLAYER);
+        if (dead) {
+            double k = rad * 0.6;
+            int wd = rad > 8 ? 2 : 1;
+            pg_thick_line(r->c, x - k, y - k, x + k, y + k, wd, PG_COLOR_DEAD_MARK);
+            pg_thick_line(r->c, x - k, y + k, x + k, y - k, wd, PG_COLOR_DEAD_MARK);
+        }
     } else if (r->mode == MODE_GIZMO) {
         pg_circle(r->c, x, y, rad, color);
     } else if (r->mode == MODE_SLEEP && color == 0x808080u) {
@@ -273,16 +281,14 @@ static int make_rays(const pg *p, nt_debug_ray *rays)
     }
     nt_body_id pl = nt_game_get_player(p->game);
     if (nt_body_is_valid(w, pl)) {
-        /* From the player to the mouse, ignoring the player itself: start just outside it. */
-        nt_vec2 c = nt_body_get_position(w, pl);
-        double dx = m.x - (double)c.x, dy = m.y - (double)c.y, d = sqrt(dx * dx + dy * dy);
-        double rad = (double)nt_body_get_shape(w, pl).half.x * 1.01;
-        if (d > rad) {
-            nt_debug_ray *ray = &rays[n++];
-            ray->p0 = nt_v2((nt_real)((double)c.x + dx / d * rad), (nt_real)((double)c.y + dy / d * rad));
-            ray->p1 = nt_v2((nt_real)m.x, (nt_real)m.y);
-            ray->hit = nt_world_raycast(w, ray->p0, ray->p1, f, &ray->result);
-        }
+        /* From the player's centre to the mouse; the filter ignores the player itself. */
+        nt_query_filter self = f;
+        self.ignore_count = 1;
+        self.ignore[0] = pl;
+        nt_debug_ray *ray = &rays[n++];
+        ray->p0 = nt_body_get_position(w, pl);
+        ray->p1 = nt_v2((nt_real)m.x, (nt_real)m.y);
+        ray->hit = nt_world_raycast(w, ray->p0, ray->p1, self, &ray->result);
     }
     return n;
 }
@@ -437,7 +443,8 @@ static void draw_help(pg *p, pg_canvas *c, int ts)
                      "ntile-play - keys and mouse                                  (H closes)\n"
                      "\n"
                      "Arrows / WASD   move (pan the view in a level without a player)\n"
-                     "Z / Space  jump      X  act (spawners)\n"
+                     "Z / Space  jump      Down + jump  drop through a one-way floor\n"
+                     "X  act (spawners)\n"
                      "R  restart      PgUp / PgDn, 1-9  switch level      Esc  quit\n"
                      "P  pause        .  single step         M  slow motion (1, 1/2, 1/4, 1/8)\n"
                      "+ / -, wheel  zoom     Home  reset zoom\n"
