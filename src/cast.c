@@ -12,17 +12,20 @@
  */
 #include "core.h"
 
-/* A crossing of the segment with a boundary curve, with the curve's normal there
- * oriented against the motion (a piece entered there is entered through it). */
+/* A crossing of the segment with a boundary curve, and the curve's normal there:
+ * a line's unit normal, or a circle's radius vector (made unit when asked for),
+ * oriented against the motion when asked for (xing_normal): a piece entered there is
+ * entered through it. Only the normal of the crossing nearest an entry is ever used. */
 typedef struct xing {
     nt_real t;
-    nt_vec2 n;
+    nt_real nx, ny;
+    int circle;
 } xing;
 
 enum { MAX_X = 64 };
 
 typedef struct xings {
-    xing x[MAX_X];
+    xing x[MAX_X + 1]; /* the last: scratch, written when the list is full */
     int n;
 } xings;
 
@@ -45,29 +48,65 @@ typedef struct hitrec {
     nt_vec2 lo, hi; /* bounds of what was hit (for the contact point) */
 } hitrec;
 
-static void add_x(xings *X, const seg *s, nt_real t, nt_real nx, nt_real ny)
+/* Kept when t is in [-1, 1] and the list has room; written either way, counted only
+ * then (no branch: whether a crossing is kept is a coin toss). */
+static inline void add_x(xings *X, nt_real t, nt_real nx, nt_real ny, int circle)
 {
-    if (X->n >= MAX_X || !(t <= 1) || t < -1) return;
+    xing *e = &X->x[X->n];
+    e->t = t;
+    e->nx = nx;
+    e->ny = ny;
+    e->circle = circle;
+    X->n += (X->n < MAX_X) & (t <= 1) & (t >= -1);
+}
+
+/* The unit normal of crossing i, against the motion. */
+static nt_vec2 xing_normal(const xings *X, const seg *s, int i)
+{
+    nt_real nx = X->x[i].nx, ny = X->x[i].ny;
+    if (X->x[i].circle) {
+        nt_real l = nt__sqrt(nx * nx + ny * ny);
+        nx = nx / l, ny = ny / l;
+    }
     if (nx * s->d.x + ny * s->d.y > 0) nx = -nx, ny = -ny;
-    X->x[X->n].t = t;
-    X->x[X->n].n = nt_v2(nx, ny);
-    X->n++;
+    return nt_v2(nx, ny);
+}
+
+/* The line n . p = e (n unit), with den = n . d and na = n . a computed by the caller
+ * (one line direction serves several offsets e). */
+static inline void line_x_pre(xings *X, nt_real nx, nt_real ny, nt_real den, nt_real na, nt_real e)
+{
+    if (den == 0) return;
+    nt_real num = e - na;
+    /* |num| > 2 |den|: the quotient, correctly rounded, is at least 2 in size and
+     * add_x would drop it (most lines of a short segment are far): no division. */
+    if (!(nt__fabs(num) <= 2 * nt__fabs(den))) return;
+    add_x(X, num / den, nx, ny, 0);
 }
 
 /* The line n . p = e (n unit). */
-static void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_real e)
+static inline void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_real e)
 {
-    nt_real den = nx * s->d.x + ny * s->d.y;
-    if (den == 0) return;
-    add_x(X, s, (e - (nx * s->a.x + ny * s->a.y)) / den, nx, ny);
+    line_x_pre(X, nx, ny, nx * s->d.x + ny * s->d.y, nx * s->a.x + ny * s->a.y, e);
 }
 
-/* The circle |p - q| = rad. */
-static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
+/* The circle |p - q| = rad; A = d . d. */
+/* How far from the start a crossing with t in [-1, 1] can lie: |d|, here 1.25 |d|. */
+static inline nt_real circle_reach(nt_real A) { return R(1.25) * nt__sqrt(A); }
+
+/* The circle |p - q| = rad; A = d . d, reach = circle_reach(A). When the start is
+ * farther than reach from the circle, by more than the rounding of the roots, every
+ * root lies beyond t = +-1 and add_x would drop it: they are not computed. The
+ * rounding: near tangency a root's place can be off by about sqrt(3 eps) (|q - a| +
+ * rad), 6e-4 (|q - a| + rad) in float, which the distance itself outgrows beyond
+ * 2 rad; the spare 4e-3 (1 + rad) covers it with room. */
+static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real reach, nt_real qx, nt_real qy, nt_real rad)
 {
     if (!(rad > 0)) return;
     nt_real mx = s->a.x - qx, my = s->a.y - qy;
-    nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, B = mx * s->d.x + my * s->d.y;
+    nt_real m2 = mx * mx + my * my, w = reach + R(4e-3) * (1 + rad);
+    if (m2 > (rad + w) * (rad + w) || (rad > w && m2 < (rad - w) * (rad - w))) return;
+    nt_real B = mx * s->d.x + my * s->d.y;
     nt_real C = mx * mx + my * my - rad * rad;
     /* B^2 - A C written as A rad^2 - (m x d)^2: no cancellation between two large
      * terms when the circle is small and far. */
@@ -86,10 +125,19 @@ static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad
     }
     for (int i = 0; i < nr; i++) {
         nt_real t = roots[i];
-        nt_real px = mx + s->d.x * t, py = my + s->d.y * t, l = nt__sqrt(px * px + py * py);
-        if (l > 0) add_x(X, s, t, px / l, py / l);
+        nt_real px = mx + s->d.x * t, py = my + s->d.y * t;
+        if (px * px + py * py > 0) add_x(X, t, px, py, 1); /* a unit normal exists */
     }
 }
+
+static void circle_x(xings *X, const seg *s, nt_real qx, nt_real qy, nt_real rad)
+{
+    nt_real A = s->d.x * s->d.x + s->d.y * s->d.y;
+    circle_x_a(X, s, A, circle_reach(A), qx, qy, rad);
+}
+
+/* The same bits (not only the same value: -0 and +0 differ). */
+static inline int same_bits(nt_real a, nt_real b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 /* What a piece of the segment is inside of. */
 typedef struct region {
@@ -102,7 +150,11 @@ typedef struct region {
 static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
 {
     nt_mtv m;
-    int hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
+    int hit;
+    if (g->tile >= 0 && g->obj.type == NT_SHAPE_AABB) /* nt_collide_tile_shape's own call for a box */
+        hit = nt__collide_tile_aabb_m(g->tile, p, g->obj.half, 0, &m) == NT__PUSH;
+    else
+        hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
     if (!hit) return 0;
     *n = m.normal;
     return m.depth;
@@ -111,22 +163,26 @@ static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
 /* First entry from the crossings: see the top of the file. A run of pieces inside
  * (depth > 0) is an entry when it gets deeper than rounding somewhere (at a piece's
  * middle): a short first piece, cut off by a curve that bounds nothing there, must
- * not delay the entry. one_way: only entries through a surface facing up count. */
-static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt_real *t_out, nt_vec2 *n_out)
+ * not delay the entry. one_way: only entries through a surface facing up count.
+ *
+ * The crossings are walked in time order without sorting them (the walk seldom
+ * passes more than two or three): each step takes the earliest crossing after the
+ * last one, equal times being one boundary. The normal is that of the crossing
+ * nearest to the run's start, the first in time order (then in the order listed) on
+ * ties, as a stable sort would put it. */
+static int pieces_entry(const xings *X, const seg *s, const region *g, int one_way, nt_real *t_out, nt_vec2 *n_out)
 {
-    for (int i = 1; i < X->n; i++) /* insertion sort, stable: same bits on every run */
-        for (int j = i; j > 0 && X->x[j].t < X->x[j - 1].t; j--) {
-            xing tmp = X->x[j];
-            X->x[j] = X->x[j - 1];
-            X->x[j - 1] = tmp;
-        }
     nt_real prev = 0, run_start = 0, run_depth = 0;
     nt_vec2 run_n = nt_v2(0, 0);
     int in_run = 0;
-    for (int k = 0; k <= X->n; k++) {
+    for (;;) {
         if (!in_run && prev >= s->tmax) break;
-        nt_real b = k < X->n ? X->x[k].t : 1;
-        if (!(b > prev) && k < X->n) continue;
+        nt_real b = 1;
+        int last = 1;
+        for (int i = 0; i < X->n; i++) {
+            nt_real t = X->x[i].t;
+            if (t > prev && (last || t < b)) b = t, last = 0;
+        }
         nt_vec2 mn = nt_v2(0, 0);
         nt_real depth = 0;
         if (b > prev) {
@@ -137,16 +193,17 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
             if (!in_run) in_run = 1, run_start = prev, run_depth = 0, run_n = mn;
             run_depth = nt__max(run_depth, depth);
         }
-        if (in_run && (depth <= 0 || k == X->n)) {
+        if (in_run && (depth <= 0 || last)) {
             in_run = 0;
             if (run_depth > s->tiny + run_start * s->tiny_per_t) {
                 /* The curve crossed nearest to the run's start bounds it there. */
-                nt_vec2 n = run_n;
-                nt_real best = NT_REAL_MAX;
+                nt_real best = NT_REAL_MAX, best_t = 0;
+                int bi = -1;
                 for (int i = 0; i < X->n; i++) {
-                    nt_real e = nt__fabs(X->x[i].t - run_start);
-                    if (e < best) best = e, n = X->x[i].n;
+                    nt_real t = X->x[i].t, e = nt__fabs(t - run_start);
+                    if (e < best || (e == best && t < best_t)) best = e, best_t = t, bi = i;
                 }
+                nt_vec2 n = bi >= 0 ? xing_normal(X, s, bi) : run_n;
                 if (!one_way || n.y < 0) {
                     *t_out = run_start;
                     *n_out = n;
@@ -155,6 +212,7 @@ static int pieces_entry(xings *X, const seg *s, const region *g, int one_way, nt
             }
         }
         prev = nt__max(prev, b);
+        if (last) break;
     }
     return 0;
 }
@@ -194,27 +252,121 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
     return 1;
 }
 
-/* The segment (local to the tile's cell) against one tile. */
-static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real *t, nt_vec2 *n)
+/* A round tile's solid lies in its bounds and on the inner side of a line of its
+ * normal n: the tangent at the arc's middle (CONVEX: n . (p - o) <= 1, o the arc's
+ * centre) or the chord between the arc's ends (CONCAVE: n . (p - o) <= -1/sqrt(2)).
+ * A box whose centre's segment stays HULL_MARGIN outside box (+) that hull (far more
+ * than the rounding of the segment or of the narrow phase) overlaps the tile nowhere
+ * along it, so no piece of it is inside: no entry, without the curves. */
+#define HULL_MARGIN R(1e-4)
+
+static int round_hull_missed(const nt_tile_info *ti, const seg *s, nt_vec2 h)
 {
+    nt_vec2 n = ti->normal, o = ti->arc_center;
+    nt_real k = ti->cls == NT_CLASS_CONVEX ? R(1) : R(-0.70710678118654752);
+    const nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
+                             {1, 0, ti->bounds_max.x + h.x},
+                             {0, -1, h.y - ti->bounds_min.y},
+                             {0, 1, ti->bounds_max.y + h.y},
+                             {n.x, n.y, n.x * o.x + n.y * o.y + k + h.x * nt__fabs(n.x) + h.y * nt__fabs(n.y)}};
+    nt_real lo = 0, hi = 1;
+    for (int i = 0; i < 5; i++) {
+        nt_real gap = (L[i][2] + HULL_MARGIN) - (L[i][0] * s->a.x + L[i][1] * s->a.y); /* > 0: inside at a */
+        nt_real den = L[i][0] * s->d.x + L[i][1] * s->d.y;
+        if (den == 0) {
+            if (gap <= 0) return 1;
+            continue;
+        }
+        nt_real t = gap / den;
+        if (den < 0) {
+            if (t > lo) lo = t;
+        } else if (t < hi) {
+            hi = t;
+        }
+    }
+    return lo > hi;
+}
+
+/* halfplanes_entry for a box against a POLYGON tile: the half-planes of tile_entry's
+ * table (the bounds grown by the box, then the slope's), with the products by the
+ * table's 0 and +-1 left out: n . a for n = (-1, 0) is (-1) a.x + 0 a.y, which is -a.x
+ * (adding a zero to a non-zero sum changes nothing, and when a.x is zero the zero's
+ * sign does not reach the result: e + a.x and e - (-a.x + 0) are both +0 for e = +0,
+ * and e otherwise). Same values, same order, same answer. */
+static int poly_entry(const nt_tile_info *ti, const nt__tile_geom *g, const seg *s, nt_vec2 h, int one_way,
+                      nt_real *t_out, nt_vec2 *n_out)
+{
+    const nt_real ax = s->a.x, ay = s->a.y, dx = s->d.x, dy = s->d.y;
+    nt_real e[5], gap[5], den[5];
+    e[4] = gap[4] = den[4] = 0; /* set below with a slope (compilers cannot always tell) */
+    e[0] = h.x - ti->bounds_min.x, gap[0] = e[0] + ax, den[0] = -dx;
+    e[1] = ti->bounds_max.x + h.x, gap[1] = e[1] - ax, den[1] = dx;
+    e[2] = h.y - ti->bounds_min.y, gap[2] = e[2] + ay, den[2] = -dy;
+    e[3] = ti->bounds_max.y + h.y, gap[3] = e[3] - ay, den[3] = dy;
+    int nl = 4;
+    nt_real snx = 0, sny = 0;
+    if (g->has_slope) {
+        nt_real ux = g->slope[0], uy = g->slope[1];
+        snx = g->slope[4], sny = g->slope[5];
+        e[4] = (g->slope[2] + h.x * nt__fabs(ux) + h.y * nt__fabs(uy)) * g->slope[3];
+        gap[4] = e[4] - (snx * ax + sny * ay);
+        den[4] = snx * dx + sny * dy;
+        nl = 5;
+    }
+    nt_real tin = -NT_REAL_MAX, tout = NT_REAL_MAX, nearest = NT_REAL_MAX;
+    int in_i = -1, near_i = 0;
+    for (int i = 0; i < nl; i++) {
+        if (gap[i] < nearest) nearest = gap[i], near_i = i;
+        if (den[i] == 0) {
+            if (gap[i] <= 0) return 0;
+            continue;
+        }
+        nt_real t = gap[i] / den[i];
+        if (den[i] < 0) {
+            if (t > tin) tin = t, in_i = i;
+        } else if (t < tout) {
+            tout = t;
+        }
+    }
+    nt_real lo = nt__max(tin, 0), hi = nt__min(tout, 1);
+    if (!(lo < hi) || !(lo < s->tmax)) return 0;
+    nt_real mid = R(0.5) * (lo + hi);
+    nt_real px = ax + dx * mid, py = ay + dy * mid;
+    nt_real depth = nt__min(NT_REAL_MAX, e[0] + px);
+    depth = nt__min(depth, e[1] - px);
+    depth = nt__min(depth, e[2] + py);
+    depth = nt__min(depth, e[3] - py);
+    if (nl == 5) depth = nt__min(depth, e[4] - (snx * px + sny * py));
+    if (!(depth > s->tiny + lo * s->tiny_per_t)) return 0;
+    int i = in_i >= 0 ? in_i : near_i;
+    static const nt_real axis_n[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    nt_vec2 n = i < 4 ? nt_v2(axis_n[i][0], axis_n[i][1]) : nt_v2(snx, sny);
+    if (one_way && !(n.y < 0)) return 0; /* a convex region is entered once */
+    *t_out = lo;
+    *n_out = n;
+    return 1;
+}
+
+/* The segment (local to the tile's cell) against one tile. */
+static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way, nt_real *t, nt_vec2 *n)
+{
+    const nt_shape obj = *obj_p;
     const nt_tile_info *ti = &nt__tiles[tile];
     nt_vec2 h = obj.half;
-    if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) {
-        const nt__tile_geom *g = &nt__geom[tile];
-        nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
-                           {1, 0, ti->bounds_max.x + h.x},
-                           {0, -1, h.y - ti->bounds_min.y},
-                           {0, 1, ti->bounds_max.y + h.y}};
-        int nl = 4;
-        if (g->has_slope) {
-            nt_real ux = g->slope[0], uy = g->slope[1];
-            L[4][0] = g->slope[4];
-            L[4][1] = g->slope[5];
-            L[4][2] = (g->slope[2] + h.x * nt__fabs(ux) + h.y * nt__fabs(uy)) * g->slope[3];
-            nl = 5;
-        }
-        return halfplanes_entry((const nt_real(*)[3])L, nl, s, one_way, t, n);
+    if (obj.type == NT_SHAPE_AABB && ti->cls == NT_CLASS_POLYGON) return poly_entry(ti, &nt__geom[tile], s, h, one_way, t, n);
+    if (obj.type == NT_SHAPE_AABB && (ti->cls == NT_CLASS_CONVEX || ti->cls == NT_CLASS_CONCAVE)) {
+        /* Clear of the cell along an axis at the start and not moving back along it:
+         * the box routine's test along that axis (canonical frame: the same sums as
+         * aabb_convex and aabb_concave, per class for x) fails at every piece's middle
+         * too, rounding being monotonic (a middle's coordinate lies on the start's
+         * side), so every region depth is 0 and pieces_entry would answer no entry. */
+        nt_real ky = ti->signy > 0 ? 1 - s->a.y : s->a.y, vy = ti->signy > 0 ? -s->d.y : s->d.y;
+        if ((ky + h.y <= 0 && vy <= 0) || (1 + h.y - ky <= 0 && vy >= 0)) return 0;
+        nt_real kx = ti->signx < 0 ? 1 - s->a.x : s->a.x, vx = ti->signx < 0 ? -s->d.x : s->d.x;
+        nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
+        if ((kx + h.x <= 0 && vx <= 0) || (dr <= 0 && vx >= 0)) return 0;
     }
+    if (obj.type == NT_SHAPE_AABB && round_hull_missed(ti, s, h)) return 0;
     xings X;
     X.n = 0;
     int nv = ti->vertex_count;
@@ -236,22 +388,65 @@ static int tile_entry(int tile, const seg *s, nt_shape obj, int one_way, nt_real
         }
     } else {
         /* M = tile (+) box: each box corner running along each tile edge and the arc,
-         * and each box side running past each tile corner. */
+         * and each box side running past each tile corner. A crossing equal bit for
+         * bit to one listed before it (an axis-aligned edge met by two corners at the
+         * same offset, two tile corners on one line) is left out: it bounds no piece
+         * of its own and is never the only nearest (leaving one in changes nothing). Each edge's normal, n . d and
+         * n . a are computed once, as line_x would compute them for every corner. */
+        nt_real enx[4], eny[4], eex[4], eey[4], elen[4], eden[4], ena[4], eoff[4][4];
+        for (int i = 0; i < nv; i++) {
+            nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
+            eex[i] = -(w.y - v.y), eey[i] = w.x - v.x, elen[i] = nt__sqrt(eex[i] * eex[i] + eey[i] * eey[i]);
+            if (elen[i] > 0) {
+                enx[i] = eex[i], eny[i] = eey[i];
+                if (elen[i] != 1) enx[i] = enx[i] / elen[i], eny[i] = eny[i] / elen[i];
+                eden[i] = enx[i] * s->d.x + eny[i] * s->d.y;
+                ena[i] = enx[i] * s->a.x + eny[i] * s->a.y;
+            }
+        }
+        nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, reach = circle_reach(A);
+        /* Each corner's offset along each edge, edge by edge (one test of the length
+         * per edge); the crossings below are listed corner by corner as before. */
+        for (int i = 0; i < nv; i++) {
+            if (!(elen[i] > 0)) continue;
+            nt_vec2 v = ti->vertices[i];
+            for (int k = 0; k < 4; k++) {
+                nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
+                eoff[i][k] = eex[i] * (v.x - sx) + eey[i] * (v.y - sy);
+            }
+            if (elen[i] != 1) /* x / 1 is x, bit for bit */
+                for (int k = 0; k < 4; k++) eoff[i][k] = eoff[i][k] / elen[i];
+        }
         for (int k = 0; k < 4; k++) {
             nt_real sx = (k & 1) ? h.x : -h.x, sy = (k & 2) ? h.y : -h.y;
             for (int i = 0; i < nv; i++) {
-                nt_vec2 v = ti->vertices[i], w = ti->vertices[(i + 1) % nv];
-                nt_real ex = -(w.y - v.y), ey = w.x - v.x, len = nt__sqrt(ex * ex + ey * ey);
-                if (len > 0) line_x(&X, s, ex / len, ey / len, (ex * (v.x - sx) + ey * (v.y - sy)) / len);
+                if (!(elen[i] > 0)) continue;
+                nt_real e = eoff[i][k];
+                /* The corners that share this one's x (k ^ 2) or y (k ^ 1) offset give
+                 * the same line for an axis-aligned edge: compared with those listed
+                 * before it. (A repeat left in would change nothing either.) */
+                int dup = ((k >> 1) & same_bits(eoff[i][k & 1], e)) | ((k & 1) & same_bits(eoff[i][k & 2], e));
+                if (!dup) line_x_pre(&X, enx[i], eny[i], eden[i], ena[i], e);
             }
-            if (round) circle_x(&X, s, o.x - sx, o.y - sy, 1);
+            if (round) circle_x_a(&X, s, A, reach, o.x - sx, o.y - sy, 1);
         }
+        nt_real denx = R(1) * s->d.x + R(0) * s->d.y, nax = R(1) * s->a.x + R(0) * s->a.y;
+        nt_real deny = R(0) * s->d.x + R(1) * s->d.y, nay = R(0) * s->a.x + R(1) * s->a.y;
         for (int i = 0; i < nv; i++) {
             nt_vec2 v = ti->vertices[i];
-            line_x(&X, s, 1, 0, v.x - h.x);
-            line_x(&X, s, 1, 0, v.x + h.x);
-            line_x(&X, s, 0, 1, v.y - h.y);
-            line_x(&X, s, 0, 1, v.y + h.y);
+            int dupx = 0, dupy = 0;
+            for (int j = 0; j < i; j++) {
+                dupx |= same_bits(ti->vertices[j].x, v.x);
+                dupy |= same_bits(ti->vertices[j].y, v.y);
+            }
+            if (!dupx) {
+                line_x_pre(&X, 1, 0, denx, nax, v.x - h.x);
+                line_x_pre(&X, 1, 0, denx, nax, v.x + h.x);
+            }
+            if (!dupy) {
+                line_x_pre(&X, 0, 1, deny, nay, v.y - h.y);
+                line_x_pre(&X, 0, 1, deny, nay, v.y + h.y);
+            }
         }
     }
     region g;
@@ -307,6 +502,9 @@ typedef struct caster {
     nt_real tiny0, tol;        /* rounding at the start, and the resting limit */
     nt_real tiny_per_t;        /* the sweep: rounding grows by this over the way (t = 1) */
     int tiles;
+    int one_way_cells;         /* the world has one-way cells */
+    int rx0, ry0, rx1, ry1;    /* the cells of the start box and the box swept (run_cast) */
+    nt__cast_start *start;     /* the tiles' start overlaps, kept across casts; NULL: none */
     hitrec best;
 } caster;
 
@@ -319,7 +517,7 @@ static int one_way_ignored(nt_real depth, nt_vec2 n, const caster *c)
 
 static int cell_one_way(const caster *c, int x, int y)
 {
-    return c->world && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
+    return c->one_way_cells && (nt__cell_flags(c->world, x, y) & NT_CELL_ONE_WAY);
 }
 
 /* A one-way cell the cast passes through (filter.one_way_off). */
@@ -328,15 +526,46 @@ static int cell_skipped(const caster *c, int x, int y)
     return c->filter && c->filter->one_way_off && cell_one_way(c, x, y);
 }
 
+/* A tile's start depth when its masked test pushes (m; u: the plain test, read only
+ * when m is deeper than the tolerance). */
+static nt_real start_push_depth(const caster *c, const nt_mtv *m, const nt_mtv *u, nt_vec2 *n)
+{
+    /* Resting on a corner where a seam meets an exposed edge (a slope's crest beside a
+     * FULL tile): the way out past the seam is deep, but the shape only touches the
+     * tile (plain depth within the tolerance) and the map as a whole agrees. */
+    if (m->depth > c->tol && u->depth <= c->tol) {
+        nt_resolution res;
+        nt_real tw = c->tol * c->map->cell;
+        if (!nt_map_resolve(c->map, c->pos, c->shape, &res) || nt__dot(res.push, res.push) <= tw * tw) {
+            *n = u->normal;
+            return u->depth;
+        }
+    }
+    *n = m->normal;
+    return m->depth;
+}
+
 /* Start overlap of the given shape with one tile, seams ignored as nt_map_resolve
  * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
 static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
 {
-    nt__cell cell = nt__map_cell(c->map, x, y);
+    const nt_map *map = c->map;
+    nt__cell cell = nt__map_in(map, x, y) ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
     *n = nt_v2(0, 0);
     if (cell.tile == NT_TILE_EMPTY) return 0;
     nt_vec2 l = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
     nt_mtv m, u;
+    if (c->obj.type == NT_SHAPE_AABB) {
+        /* A box's overlap does not depend on the mask (the masked routine is the
+         * plain one with mask 0, and separates exactly when it does): the plain test
+         * is needed only for a masked tile's depth. */
+        int r = nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, cell.seams, &m);
+        if (r == NT__SEPARATE) return 0;
+        /* The plain depth: for a masked tile, and for the corner case below. */
+        if (r == NT__MASKED || m.depth > c->tol) nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, 0, &u);
+        if (r == NT__MASKED) return u.depth <= c->tol ? 0 : NT_REAL_MAX;
+        return start_push_depth(c, &m, &u, n);
+    }
     /* The overlap itself from the plain test: the masked one measures the way out. */
     if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
     int r = c->obj.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(cell.tile, l, c->obj.half.x, cell.seams, &m)
@@ -347,19 +576,7 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
          * those sides, give the contacts; only a deep overlap counts here. */
         return u.depth <= c->tol ? 0 : NT_REAL_MAX;
     }
-    /* Resting on a corner where a seam meets an exposed edge (a slope's crest beside a
-     * FULL tile): the way out past the seam is deep, but the shape only touches the
-     * tile (plain depth within the tolerance) and the map as a whole agrees. */
-    if (m.depth > c->tol && u.depth <= c->tol) {
-        nt_resolution res;
-        nt_real tw = c->tol * c->map->cell;
-        if (!nt_map_resolve(c->map, c->pos, c->shape, &res) || nt__dot(res.push, res.push) <= tw * tw) {
-            *n = u.normal;
-            return u.depth;
-        }
-    }
-    *n = m.normal;
-    return m.depth;
+    return start_push_depth(c, &m, &u, n);
 }
 
 /* One start overlap: deep ends the cast, approaching stops it at 0, else it counts
@@ -396,29 +613,80 @@ static void set_tile_bounds(hitrec *h, int tile, int x, int y)
 }
 
 /* Start overlaps with the tiles. Returns 1 when the cast is decided (deep). */
-static int start_tiles(caster *c, nt_real *rest)
+/* One tile's start overlap, in scan order. Returns 1 when the cast is decided. */
+static int start_tile(caster *c, nt_real depth, nt_vec2 n, int x, int y, int tile, nt_real *rest)
 {
-    nt_vec2 h = c->obj.half;
-    int x0 = nt__floor_int(c->p0.x - h.x), x1 = nt__floor_int(c->p0.x + h.x);
-    int y0 = nt__floor_int(c->p0.y - h.y), y1 = nt__floor_int(c->p0.y + h.y);
-    for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++) {
-            nt_vec2 n;
-            if (cell_skipped(c, x, y)) continue;
-            nt_real depth = tile_start_depth(c, x, y, &n);
-            if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
-            int had = c->best.kind;
-            if (start_contact(c, depth, n, 1, x, y, -1, rest)) return 1;
-            if (!had && c->best.kind) set_tile_bounds(&c->best, nt__map_tile(c->map, x, y), x, y);
-        }
+    int had = c->best.kind;
+    if (start_contact(c, depth, n, 1, x, y, -1, rest)) return 1;
+    if (!had && c->best.kind) set_tile_bounds(&c->best, tile, x, y);
     return 0;
 }
 
-/* The sweep against one tile cell. */
-static void sweep_cell(caster *c, int x, int y, nt_real tmax)
+/* Start overlaps with the tiles. Returns 1 when the cast is decided (deep).
+ *
+ * What the scan finds depends on the start (p0, the shape), the map and its one-way
+ * cells, and the filter's one_way_off, not on the motion: a cast from the same place
+ * in the same world (the mover's next slide after meeting a surface at t = 0) replays
+ * the overlaps that count (deeper than tiny0, not ignored one-way cells) in the same
+ * order instead of measuring them again. The caller keeps c->start valid only for one
+ * world state and one filter (one move). */
+static int start_tiles(caster *c, nt_real *rest)
 {
-    int tile = nt__map_tile(c->map, x, y);
-    if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) return;
+    nt__cast_start *sc = c->start;
+    nt_vec2 h = c->obj.half, p0 = c->p0;
+    if (sc && sc->valid && same_bits(sc->p0.x, p0.x) && same_bits(sc->p0.y, p0.y) && same_bits(sc->half.x, h.x) &&
+        same_bits(sc->half.y, h.y) && same_bits(sc->pos.x, c->pos.x) && same_bits(sc->pos.y, c->pos.y)) {
+        for (int i = 0; i < sc->n; i++)
+            if (start_tile(c, sc->e[i].depth, sc->e[i].n, sc->e[i].x, sc->e[i].y, sc->e[i].tile, rest)) return 1;
+        return 0;
+    }
+    if (sc) sc->valid = 0, sc->n = 0;
+    int keep = sc != NULL;
+    /* The start box's cells; the swept box's range starts (ends) with them on the
+     * side the motion leaves from: the same sums, the same floors. */
+    nt_vec2 p1 = nt__add(c->p0, c->d);
+    int x0 = p0.x <= p1.x ? c->rx0 : nt__floor_int(p0.x - h.x), x1 = p0.x >= p1.x ? c->rx1 : nt__floor_int(p0.x + h.x);
+    int y0 = p0.y <= p1.y ? c->ry0 : nt__floor_int(p0.y - h.y), y1 = p0.y >= p1.y ? c->ry1 : nt__floor_int(p0.y + h.y);
+    int decided = 0;
+    for (int y = y0; y <= y1 && !decided; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt_vec2 n;
+            /* An EMPTY cell overlaps nothing: no depth, no contact. */
+            int tile = nt__map_tile(c->map, x, y);
+            if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) continue;
+            nt_real depth = tile_start_depth(c, x, y, &n);
+            if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
+            if (depth <= c->tiny0) continue; /* start_contact: no contact */
+            if (keep) {
+                if (sc->n < NT__CAST_START_MAX) {
+                    sc->e[sc->n].depth = depth;
+                    sc->e[sc->n].n = n;
+                    sc->e[sc->n].x = x;
+                    sc->e[sc->n].y = y;
+                    sc->e[sc->n].tile = tile;
+                    sc->n++;
+                } else {
+                    keep = 0;
+                }
+            }
+            if (start_tile(c, depth, n, x, y, tile, rest)) {
+                decided = 1;
+                break;
+            }
+        }
+    if (keep) {
+        sc->valid = 1;
+        sc->p0 = p0;
+        sc->half = h;
+        sc->pos = c->pos;
+    }
+    return decided;
+}
+
+/* The sweep against one tile cell (not EMPTY). */
+static void sweep_cell(caster *c, int x, int y, int tile, nt_real tmax)
+{
+    if (cell_skipped(c, x, y)) return;
     int one_way = cell_one_way(c, x, y);
     if (one_way) {
         nt_vec2 n;
@@ -432,7 +700,7 @@ static void sweep_cell(caster *c, int x, int y, nt_real tmax)
     s.tiny_per_t = c->tiny_per_t;
     nt_real t;
     nt_vec2 n;
-    if (tile_entry(tile, &s, c->sweep, one_way, &t, &n) && t < c->best.t) {
+    if (tile_entry(tile, &s, &c->sweep, one_way, &t, &n) && t < c->best.t) {
         c->best.t = t;
         c->best.n = n;
         c->best.kind = 1;
@@ -463,8 +731,10 @@ static void sweep_tiles(caster *c)
 {
     nt_vec2 h = c->sweep.half, p0 = c->p0, d = c->d;
     nt_real xa = nt__min(p0.x, p0.x + d.x), xb = nt__max(p0.x, p0.x + d.x);
-    int cx0 = nt__floor_int(xa - h.x), cx1 = nt__floor_int(xb + h.x);
+    int same = same_bits(h.x, c->obj.half.x); /* not shrunk: run_cast's range */
+    int cx0 = same ? c->rx0 : nt__floor_int(xa - h.x), cx1 = same ? c->rx1 : nt__floor_int(xb + h.x);
     int sx = d.x < 0 ? -1 : 1, sy = d.y < 0 ? -1 : 1;
+    int polys = c->sweep.type == NT_SHAPE_AABB && (d.x == 0 || d.y == 0); /* see below */
     for (int x = sx > 0 ? cx0 : cx1; sx > 0 ? x <= cx1 : x >= cx0; x += sx) {
         nt_real t0, t1;
         if (!slab(p0.x, d.x, (nt_real)x - h.x, (nt_real)x + 1 + h.x, &t0, &t1)) continue;
@@ -475,9 +745,33 @@ static void sweep_tiles(caster *c)
         nt_real ya = nt__min(p0.y + d.y * t0, p0.y + d.y * t1), yb = nt__max(p0.y + d.y * t0, p0.y + d.y * t1);
         int cy0 = nt__floor_int(ya - h.y), cy1 = nt__floor_int(yb + h.y);
         for (int y = sy > 0 ? cy0 : cy1; sy > 0 ? y <= cy1 : y >= cy0; y += sy) {
-            nt_real u0, u1;
-            if (slab(p0.y, d.y, (nt_real)y - h.y, (nt_real)y + 1 + h.y, &u0, &u1) && u0 > c->best.t) break;
-            sweep_cell(c, x, y, nt__min(c->best.t, R(1)));
+            /* EMPTY cells first: the rows are met in order of time, so a row
+             * starting after the best hit is followed only by such rows, and the
+             * walk stops at the first one that is not EMPTY as it would have at
+             * the first. */
+            int tile = nt__map_tile(c->map, x, y);
+            if (tile == NT_TILE_EMPTY) continue;
+            /* The row's slab entry time (slab's t0: the side met first), when moving
+             * across rows. */
+            if (d.y != 0 && ((sy > 0 ? (nt_real)y - h.y : (nt_real)y + 1 + h.y) - p0.y) / d.y > c->best.t) break;
+            /* A box moving along a row or a column of POLYGON tiles it only touches or
+             * clears (a floor under a box sliding on it, a wall beside a box falling):
+             * poly_entry would stop at that axis's half-plane (n . d = 0, not inside)
+             * and answer no entry; the same sums say so here. */
+            if (polys && nt__tiles[tile].cls == NT_CLASS_POLYGON) {
+                const nt_tile_info *ti = &nt__tiles[tile];
+                if (d.y == 0) {
+                    nt_real ay = p0.y - (nt_real)y;
+                    if ((h.y - ti->bounds_min.y) + ay <= 0 || (ti->bounds_max.y + h.y) - ay <= 0) continue;
+                } else if (d.x == 0) {
+                    nt_real ax = p0.x - (nt_real)x;
+                    if ((h.x - ti->bounds_min.x) + ax <= 0 || (ti->bounds_max.x + h.x) - ax <= 0) continue;
+                }
+            }
+            sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
+            /* An entry is never before 0 and replaces the best only when earlier: a
+             * hit at 0 (a floor met at once) is the answer. */
+            if (c->best.t <= 0) return;
         }
     }
 }
@@ -543,24 +837,22 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     return true;
 }
 
+/* Can the cast meet a body at all? */
+static inline int cast_sees_bodies(const caster *c)
+{
+    const nt_world *w = c->world;
+    return w && w->heads && w->grid_bodies != 0 && c->filter->mask != 0;
+}
+
 static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
 {
     const nt_world *w = c->world;
-    if (!w || !w->heads || w->grid_bodies == 0 || c->filter->mask == 0) return;
+    if (!cast_sees_bodies(c)) return;
     nt_real cell = w->map->cell;
     nt__grid_visit(w, nt__scale(lo, cell), nt__scale(hi, cell), body_visit, bp);
 }
 
 /* ---- input, output ---- */
-
-static int shape_ok(nt_shape s, nt_real cell)
-{
-    nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
-    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
-    if (!nt__finite(s.half.x) || !nt__finite(s.half.y)) return 0;
-    if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
-    return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
-}
 
 /* Where the shape (at its centre q, cell units) touches what it hit: its support point
  * against the normal, the middle of the shared stretch when a whole side faces it. */
@@ -583,9 +875,33 @@ static nt_vec2 contact_point(const caster *c, nt_vec2 q)
     return p;
 }
 
+/* Are the cells [x0, x1] x [y0, y1] all EMPTY cells of the map? One open3 bit per
+ * 3 x 3 block; no (the long way) near the map's edge or for a large range. */
+static int cells_empty(const nt_map *map, int x0, int y0, int x1, int y1)
+{
+    if (x1 - x0 > 8 || y1 - y0 > 8) return 0;
+    for (int y = y0 + 1; y - 1 <= y1; y += 3)
+        for (int x = x0 + 1; x - 1 <= x1; x += 3)
+            if (!nt__map_open3(map, x, y)) return 0;
+    return 1;
+}
+
 /* The whole cast. Returns 1 on a hit (c->best). */
 static int run_cast(caster *c)
 {
+    /* Every cell the start and the sweep can look at (the start box and the swept
+     * box, obj being at least the swept shape) EMPTY: neither finds anything there. */
+    int tiles = c->tiles;
+    if (tiles) {
+        nt_vec2 h = c->obj.half, p1 = nt__add(c->p0, c->d);
+        c->rx0 = nt__floor_int(nt__min(c->p0.x, p1.x) - h.x), c->ry0 = nt__floor_int(nt__min(c->p0.y, p1.y) - h.y);
+        c->rx1 = nt__floor_int(nt__max(c->p0.x, p1.x) + h.x), c->ry1 = nt__floor_int(nt__max(c->p0.y, p1.y) + h.y);
+        tiles = !cells_empty(c->map, c->rx0, c->ry0, c->rx1, c->ry1);
+    }
+    /* Nothing to meet (no tile there, no body to see): the end, as the passes below
+     * would find. */
+    int bodies = cast_sees_bodies(c);
+    if (!tiles && !bodies) return 0;
     /* Rounding: 16 units in the last place of the start's coordinates, and of the way
      * travelled (a long cast must not make what is near the start look shallow). */
     nt_real mag0 = nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y));
@@ -599,13 +915,13 @@ static int run_cast(caster *c)
     c->best.body = -1;
     c->best.lo = c->best.hi = nt_v2(0, 0);
     nt_real rest = 0;
-    if (c->tiles && start_tiles(c, &rest)) return 1;
+    if (tiles && start_tiles(c, &rest)) return 1;
     body_pass bp;
     bp.c = c;
     bp.rest = &rest;
     bp.decided = 0;
     bp.start = 1;
-    visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
+    if (bodies) visit_bodies(c, &bp, nt__sub(c->p0, c->obj.half), nt__add(c->p0, c->obj.half));
     if (bp.decided) return 1;
     if (c->best.kind) return 1; /* approaching a surface it rests on */
     /* Resting: sweep a shape smaller by the resting depth (and rounding). */
@@ -614,28 +930,40 @@ static int run_cast(caster *c)
         nt_real k = rest + c->tiny0;
         c->sweep.half = nt_v2(nt__max(c->obj.half.x - k, 0), nt__max(c->obj.half.y - k, 0));
     }
-    if (c->tiles) sweep_tiles(c);
+    if (tiles) sweep_tiles(c);
     bp.start = 0;
-    nt_vec2 p1 = nt__add(c->p0, c->d);
-    nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
-    nt_vec2 hi = nt_v2(nt__max(c->p0.x, p1.x) + c->obj.half.x, nt__max(c->p0.y, p1.y) + c->obj.half.y);
-    visit_bodies(c, &bp, lo, hi);
+    if (bodies) {
+        nt_vec2 p1 = nt__add(c->p0, c->d);
+        nt_vec2 lo = nt_v2(nt__min(c->p0.x, p1.x) - c->obj.half.x, nt__min(c->p0.y, p1.y) - c->obj.half.y);
+        nt_vec2 hi = nt_v2(nt__max(c->p0.x, p1.x) + c->obj.half.x, nt__max(c->p0.y, p1.y) + c->obj.half.y);
+        visit_bodies(c, &bp, lo, hi);
+    }
     return c->best.kind != 0 && c->best.t <= 1;
 }
 
-static int setup(caster *c, const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 translation)
+/* Every field run_cast reads is set here or by the caller (world, filter, tiles,
+ * one_way_cells); run_cast sets sweep and best. shape_known: the caller checked the
+ * shape with nt__cast_shape_ok. */
+static inline int setup(caster *c, const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_vec2 translation,
+                        int shape_known)
 {
-    if (!map || !shape_ok(shape, map->cell)) return 0;
-    if (!nt__finite(pos.x) || !nt__finite(pos.y) || !nt__finite(translation.x) || !nt__finite(translation.y)) return 0;
+    nt_shape shape = *shape_p;
+    if (!map || (!shape_known && !nt__cast_shape_ok(shape, map->cell))) return 0;
     nt_real ic = map->inv_cell;
-    memset(c, 0, sizeof *c);
     c->map = map;
+    c->world = NULL;
+    c->filter = NULL;
+    c->start = NULL;
+    c->tiles = 1;
+    c->one_way_cells = 0;
     c->p0 = nt_v2(pos.x * ic, pos.y * ic);
     c->d = nt_v2(translation.x * ic, translation.y * ic);
     c->obj = shape;
     c->obj.half = nt_v2(shape.half.x * ic, shape.half.y * ic);
     c->pos = pos;
     c->shape = shape;
+    /* Finite sums: then pos and translation are finite too (a NaN or an infinity among
+     * them makes its sum NaN or infinite, ic being finite and positive). */
     return nt__finite(c->p0.x + c->d.x) && nt__finite(c->p0.y + c->d.y);
 }
 
@@ -645,8 +973,7 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
     memset(&r, 0, sizeof r);
     if (out) *out = r;
     caster c;
-    if (!setup(&c, map, pos, shape, translation)) return false;
-    c.tiles = 1;
+    if (!setup(&c, map, pos, &shape, translation, 0)) return false;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
     r.fraction = c.best.t;
@@ -661,27 +988,36 @@ bool nt_map_cast_shape(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_vec2 t
 bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_vec2 translation,
                          nt_query_filter filter, nt_world_shape_hit *out)
 {
-    nt_world_shape_hit r;
-    memset(&r, 0, sizeof r);
-    if (out) *out = r;
+    nt_world_shape_hit scratch;
+    return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, NULL, out ? out : &scratch);
+}
+
+/* The result is written in place, zero until a hit is known (a copy of a struct just
+ * written field by field stalls on store forwarding). */
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
+                          const nt_query_filter *filter, int shape_known, nt__cast_start *start, nt_world_shape_hit *out)
+{
+    nt_world_shape_hit *r = out;
+    memset(r, 0, sizeof *r);
     if (!world) return false;
     caster c;
-    if (!setup(&c, world->map, pos, shape, translation)) return false;
+    if (!setup(&c, world->map, pos, shape, translation, shape_known)) return false;
     c.world = world;
-    c.filter = &filter;
-    c.tiles = filter.tiles;
+    c.filter = filter;
+    c.start = start;
+    c.tiles = filter->tiles;
+    c.one_way_cells = world->oneway_count > 0;
     if (!run_cast(&c)) return false;
     nt_vec2 q = nt__add(c.p0, nt__scale(c.d, c.best.t));
-    r.fraction = c.best.t;
-    r.normal = c.best.n;
-    r.point = nt__scale(contact_point(&c, q), world->map->cell);
+    r->fraction = c.best.t;
+    r->normal = c.best.n;
+    r->point = nt__scale(contact_point(&c, q), world->map->cell);
     if (c.best.body >= 0) {
-        r.body.index1 = c.best.body + 1;
-        r.body.generation = world->bodies[c.best.body].generation;
+        r->body.index1 = c.best.body + 1;
+        r->body.generation = world->bodies[c.best.body].generation;
     } else {
-        r.cell_x = c.best.cx;
-        r.cell_y = c.best.cy;
+        r->cell_x = c.best.cx;
+        r->cell_y = c.best.cy;
     }
-    if (out) *out = r;
     return true;
 }

@@ -142,6 +142,8 @@ typedef struct mover {
     nt_shape shape;
     nt_query_filter filter;
     int32_t skip_body; /* a body the current cast ignores (the platform being ridden), -1 none */
+    int shape_ok;      /* the shape is one casts accept (checked once a move) */
+    nt__cast_start start; /* the last cast's start overlaps with the tiles (one move: one world, one filter) */
     nt_real cos_floor;
     int on_ground;     /* stood on a floor before the move, or met one during it */
     nt_character_result *r;
@@ -168,9 +170,11 @@ static bool stops_character(nt_body_id id, void *ctx)
 /* Cast from p along d: the fraction travelled (1: nothing met) and the hit. */
 static nt_real cast(mover *m, nt_vec2 p, nt_vec2 d, nt_world_shape_hit *hit)
 {
-    memset(hit, 0, sizeof *hit);
-    if (d.x == 0 && d.y == 0) return 1;
-    if (!nt_world_cast_shape(m->w, p, m->shape, d, m->filter, hit)) return 1;
+    if (d.x == 0 && d.y == 0) {
+        memset(hit, 0, sizeof *hit);
+        return 1;
+    }
+    if (!nt__world_cast_shape(m->w, p, &m->shape, d, &m->filter, m->shape_ok, &m->start, hit)) return 1;
     return hit->fraction;
 }
 
@@ -327,6 +331,7 @@ static bool overlap_visit(const nt_world *w, int32_t i, void *ctx)
 static nt_vec2 out_of_bodies(mover *m, nt_vec2 p)
 {
     const nt_world *w = m->w;
+    if (!w->heads || w->grid_bodies == 0) return p; /* no body to visit: nt__grid_visit would find none */
     for (int k = 0; k < 4; k++) {
         overlap_probe q;
         q.m = m;
@@ -391,10 +396,11 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
 
 nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
 {
-    nt_character_result r;
-    memset(&r, 0, sizeof r);
-    if (out) *out = r;
+    /* The result is built in place (a copy of a struct just written field by field
+     * stalls on store forwarding); *out is zero on every error, which all come first. */
+    if (out) memset(out, 0, sizeof *out);
     if (!w || !out) return NT_ERR_INVALID_ARGUMENT;
+    nt_character_result *rp = out;
     nt__character *c = char_of(w, id);
     if (!c) return NT_ERR_INVALID_ID;
     if (!finite2(velocity) || !nt__finite(dt)) return NT_ERR_NON_FINITE;
@@ -402,15 +408,26 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     nt__body *b = &w->bodies[c->body];
     /* The speed limit of the world step. */
     nt_real maxd = w->def.max_cells_per_step * w->cell, sp2 = nt__dot(velocity, velocity);
-    /* A speed or a displacement too large for nt_real: its direction at the limit. */
-    if (!(sp2 <= NT_REAL_MAX) || !(nt__sqrt(sp2) * dt <= NT_REAL_MAX)) velocity = nt__clamp_overflow(velocity, maxd / dt);
-    else if (!(sp2 * dt * dt <= maxd * maxd)) velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    /* Within the limit (the usual case, no square root: sqrt(sp2) * dt is then finite
+     * too, its square being at most maxd^2 <= NT_REAL_MAX), else: a speed or a
+     * displacement too large for nt_real, its direction at the limit; or over it. */
+    if (sp2 <= NT_REAL_MAX && maxd * maxd <= NT_REAL_MAX && sp2 * dt * dt <= maxd * maxd) {
+    } else if (!(sp2 <= NT_REAL_MAX) || !(nt__sqrt(sp2) * dt <= NT_REAL_MAX)) {
+        velocity = nt__clamp_overflow(velocity, maxd / dt);
+    } else if (!(sp2 * dt * dt <= maxd * maxd)) {
+        velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    }
     mover m;
     m.w = w;
     m.c = c;
     m.b = b;
     m.shape = nt__body_shape(b);
-    m.filter = nt_default_query_filter();
+    m.shape_ok = nt__cast_shape_ok(m.shape, w->map->cell);
+    m.start.valid = 0;
+    /* nt_default_query_filter, field by field (a returned struct copied in stalls on
+     * store forwarding). */
+    memset(&m.filter, 0, sizeof m.filter);
+    m.filter.tiles = true;
     m.filter.mask = b->mask;
     m.filter.ignore_count = 1;
     m.filter.ignore[0] = id;
@@ -419,14 +436,14 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.filter.one_way_off = c->dropping != 0;
     m.skip_body = -1;
     m.cos_floor = c->floor_cos;
-    m.r = &r;
+    m.r = rp;
     const nt_vec2 p0 = b->p;
     nt_vec2 p = p0;
     /* Inside the tiles (a tile painted over it, a teleport into a wall): out by the
      * shortest way first, as the world step would free a body; casts from inside
      * solid go nowhere. */
     const nt_map *solid = w->solid ? w->solid : w->map;
-    int checked = c->free_checked && c->free_epoch == w->map_epoch && c->free_p.x == p.x && c->free_p.y == p.y;
+    int checked = c->free_checked & (c->free_epoch == w->map_epoch) & (c->free_p.x == p.x) & (c->free_p.y == p.y);
     if (!checked && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
@@ -445,18 +462,18 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     const nt_vec2 p_move = p;
     p = slide_move(&m, p, nt__scale(velocity, dt), &v, &wall);
     /* 2. A step: a wall stopped the move while on a floor. */
-    if ((was_on_floor || r.on_floor) && wall.x != 0) {
+    if ((was_on_floor || rp->on_floor) && wall.x != 0) {
         nt_vec2 q;
         if (step_up(&m, p, wall, &q)) {
             p = q;
-            r.stepped_up = true;
+            rp->stepped_up = true;
             /* What stopped it was a step, not a wall: the run goes on. */
             if (v.x == 0) v.x = velocity.x;
         }
     }
     /* 3. Snap down onto the floor it stood on, unless moving up; else, still standing,
      * make sure the floor is still known (a move along a floor need not meet it). */
-    if (was_on_floor && !r.on_floor && velocity.y >= 0) {
+    if (was_on_floor && !rp->on_floor && velocity.y >= 0) {
         nt_world_shape_hit h;
         /* A floor sloping down as steeply as floor_angle falls away by |dx| tan(angle)
          * under a move dx across: a sloped floor is followed down by that much more
@@ -470,35 +487,35 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
             (t * reach <= snap || t * reach * -h.normal.y <= snap * -h.normal.y + across * nt__fabs(h.normal.x))) {
             p = nt__add(p, nt__scale(down, t));
             note(&m, SURF_FLOOR, &h);
-            r.snapped = t * reach > w->cell * R(2e-3);
+            rp->snapped = t * reach > w->cell * R(2e-3);
             v = slide_motion(&m, v, h.normal, SURF_FLOOR);
         }
     }
-    r.landed = r.on_floor && !was_on_floor;
+    rp->landed = rp->on_floor && !was_on_floor;
     /* 4. Carried by the platform over this step (it moves by as much in the world step),
      * cast without it; leaving it keeps its velocity. */
-    r.floor_velocity = r.on_floor ? floor_velocity(w, &r) : nt_v2(0, 0);
+    rp->floor_velocity = rp->on_floor ? floor_velocity(w, rp) : nt_v2(0, 0);
     if (platform.x != 0 || platform.y != 0) {
-        nt_character_result keep = r;
+        nt_character_result keep = *rp;
         nt_vec2 ignored = platform;
         m.skip_body = c->floor_body;
         p = slide_move(&m, p, nt__scale(platform, dt), &ignored, &wall);
         m.skip_body = -1;
-        r = keep; /* what the carry met is not the move's */
-        if (!r.on_floor) v = nt__add(v, platform);
+        *rp = keep; /* what the carry met is not the move's */
+        if (!rp->on_floor) v = nt__add(v, platform);
     }
     /* On a floor the floor carries the vertical part: what is left is the run along it
      * (so running up a slope and over its crest does not launch the character, and
      * the next move, not moving up, snaps). */
-    if (r.on_floor) v.y = 0;
+    if (rp->on_floor) v.y = 0;
     /* Dropping through one-way cells lasts while the character overlaps or rests on one. */
     if (c->dropping && !touches_one_way(w, c->body, p, m.shape)) c->dropping = 0;
     /* Casts that start resting on a surface are made with the shape shrunk by that
      * depth: along a curved surface (a quarter pipe) the slides can sink it a little
      * deeper each time, in float. Past half the resting tolerance it is lifted back
      * out by the shortest way, so that no move ends deeper than that. */
-    int met = r.slide_count || r.snapped || r.stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
-    if (met && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(0.5 * NT_CAST_START_TOLERANCE)) {
+    int met = rp->slide_count || rp->snapped || rp->stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
+    if (met && nt__map_depth_exceeds(solid, p, &m.shape, w->cell * R(0.5 * NT_CAST_START_TOLERANCE))) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
         free_end = nt_map_overlap_depth(solid, p, m.shape) <= w->cell * R(NT_CAST_START_TOLERANCE);
@@ -512,11 +529,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);
     b->ntc = 0;
     if (b->gcell >= 0) nt__grid_update(w, c->body);
-    c->on_floor = r.on_floor;
-    c->floor_body = nt_body_id_is_null(r.floor_body) || !r.on_floor ? -1 : r.floor_body.index1 - 1;
-    c->floor_gen = r.floor_body.generation;
-    r.position = p;
-    r.velocity = v;
-    *out = r;
+    c->on_floor = rp->on_floor;
+    c->floor_body = nt_body_id_is_null(rp->floor_body) || !rp->on_floor ? -1 : rp->floor_body.index1 - 1;
+    c->floor_gen = rp->floor_body.generation;
+    rp->position = p;
+    rp->velocity = v;
     return NT_OK;
 }

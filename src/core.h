@@ -157,6 +157,8 @@ static inline int nt__map_open3(const nt_map *map, int x, int y)
 
 /* Cell data for any coordinate: cells outside the map are FULL border cells. */
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
+/* nt_map_overlap_depth(map, pos, shape) > limit, for limit >= 0 (map.c). */
+int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_real limit); /* shape by pointer: no struct in registers */
 
 static inline int nt__map_tile(const nt_map *map, int x, int y)
 {
@@ -489,6 +491,37 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 /* response.c */
 nt_status nt__step(nt_world *w, nt_real dt);
 nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square overflows, at speed vmax */
+
+/* cast.c: a shape a cast accepts (box or circle, half-sizes in (0, NT_MAX_HALF_CELLS
+ * cells]); nt_world_cast_shape with the filter by pointer, and shape_known when the
+ * caller checked the shape (the character mover, once a move). */
+static inline int nt__cast_shape_ok(nt_shape s, nt_real cell)
+{
+    nt_real cap = cell * (nt_real)NT_MAX_HALF_CELLS;
+    if (s.type != NT_SHAPE_AABB && s.type != NT_SHAPE_CIRCLE) return 0;
+    if (!nt__finite(s.half.x) || !nt__finite(s.half.y)) return 0;
+    if (!(s.half.x > 0 && s.half.y > 0 && s.half.x <= cap && s.half.y <= cap)) return 0;
+    return s.type != NT_SHAPE_CIRCLE || s.half.x == s.half.y;
+}
+/* The tiles' start overlaps of a cast (cell units), for the next cast from the same
+ * place in the same world with the same filter (start_tiles in cast.c). valid = 0:
+ * none kept. */
+#define NT__CAST_START_MAX 8
+typedef struct nt__cast_start {
+    int valid;
+    nt_vec2 p0, half; /* where and what was scanned */
+    nt_vec2 pos;      /* p0 in world units (the corner case of tile_start_depth resolves there) */
+    int n;
+    struct {
+        nt_real depth;
+        nt_vec2 n;
+        int x, y, tile;
+    } e[NT__CAST_START_MAX]; /* the overlaps that count, in scan order */
+} nt__cast_start;
+/* out must not be NULL; start: NULL, or kept by the caller for one world state and
+ * one filter. */
+bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *shape, nt_vec2 translation,
+                          const nt_query_filter *filter, int shape_known, nt__cast_start *start, nt_world_shape_hit *out);
 
 /* world.c: does a query with this filter see body i (sensors, mask, ignore list, callback)? */
 bool nt__query_sees(const nt_world *w, int32_t i, const nt_query_filter *f);

@@ -1247,6 +1247,40 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     return true;
 }
 
+/* nt_map_overlap_depth(map, pos, shape) > limit (limit >= 0), without the exact test
+ * of a tile a box overlaps too little to matter. The depth is the largest single-tile
+ * depth, so the answer is whether some tile's depth times the cell exceeds limit
+ * (rounding is monotonic). A box's depth in a tile is at most its overlap with the
+ * tile's bounds along either axis: the routines list those pushes as candidates and
+ * take the shortest (POLYGON tiles with these very sums; the round ones in a mirrored
+ * frame, equal to within a few units in the last place of 1, hence the margin). */
+int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_real limit)
+{
+    const nt_shape shape = *shape_p;
+    nt_real ic = map->inv_cell;
+    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
+    if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;
+    nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    nt_real round_limit = limit * ic - R(1e-5);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = nt__map_tile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            nt_vec2 c = nt_v2(p.x - (nt_real)x, p.y - (nt_real)y);
+            if (shape.type == NT_SHAPE_AABB) {
+                const nt_tile_info *ti = &nt__tiles[t];
+                nt_real b = nt__min(nt__min(c.x + h.x - ti->bounds_min.x, ti->bounds_max.x - (c.x - h.x)),
+                                    nt__min(c.y + h.y - ti->bounds_min.y, ti->bounds_max.y - (c.y - h.y)));
+                if (ti->cls == NT_CLASS_POLYGON ? b * map->cell <= limit : b <= round_limit) continue;
+            }
+            nt_mtv m;
+            if (tile_test(t, c.x, c.y, shape, h, 0, &m) == NT__PUSH && m.depth * map->cell > limit) return 1;
+        }
+    return 0;
+}
+
 nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape)
 {
     if (!map) return 0;
