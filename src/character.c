@@ -97,15 +97,6 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     return NT_OK;
 }
 
-void nt__character_remove(nt_world *w, int32_t i)
-{
-    int32_t k = w->cold[i].character;
-    if (k < 0) return;
-    w->cold[i].character = -1;
-    w->chars[k] = w->chars[--w->char_count];
-    if (k < w->char_count) w->cold[w->chars[k].body].character = k;
-}
-
 nt_status nt_character_destroy(nt_world *w, nt_body_id id)
 {
     nt__character *c = char_of(w, id);
@@ -119,11 +110,6 @@ nt_status nt_character_destroy(nt_world *w, nt_body_id id)
 
 bool nt_character_is_valid(const nt_world *w, nt_body_id id) { return char_of(w, id) != NULL; }
 
-nt_body_type nt__character_type(const nt_world *w, int32_t i)
-{
-    int32_t k = w->cold[i].character;
-    return k >= 0 ? (nt_body_type)w->chars[k].type : (nt_body_type)w->bodies[i].type;
-}
 
 nt_status nt_character_drop_through(nt_world *w, nt_body_id id)
 {

@@ -66,3 +66,20 @@ void nt__warn(const char *cond, const char *file, int line)
 {
     fprintf(stderr, "ntile: warning: %s (%s:%d)\n", cond, file, line);
 }
+
+/* A velocity whose squared length overflows (huge gravity times a huge gravity
+ * scale, say): keep its direction at speed vmax; NaN parts become 0. */
+nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax)
+{
+    nt_real x = v.x == v.x ? v.x : 0, y = v.y == v.y ? v.y : 0;
+    if (nt__fabs(x) > NT_REAL_MAX || nt__fabs(y) > NT_REAL_MAX) { /* an infinity: its sign is the direction */
+        x = nt__fabs(x) > NT_REAL_MAX ? (x > 0 ? R(1) : R(-1)) : 0;
+        y = nt__fabs(y) > NT_REAL_MAX ? (y > 0 ? R(1) : R(-1)) : 0;
+    }
+    nt_real m = nt__max(nt__fabs(x), nt__fabs(y));
+    if (m == 0) return nt_v2(0, 0);
+    x /= m;
+    y /= m;
+    nt_real l = nt__sqrt(x * x + y * y);
+    return nt_v2(x / l * vmax, y / l * vmax);
+}

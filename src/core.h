@@ -468,10 +468,11 @@ static inline nt_shape nt__body_shape(const nt__body *b)
 
 /* world.c, for characters */
 void nt__set_kinematic(nt_world *w, int32_t i, bool kinematic); /* the step's view of a character's type */
-
-/* character.c */
 void nt__character_remove(nt_world *w, int32_t i); /* the body stops being a character (destroyed) */
 nt_body_type nt__character_type(const nt_world *w, int32_t i); /* a body's own type */
+
+/* core.c: a velocity whose square overflows, at speed vmax (the step's speed limit, a character's move) */
+nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax);
 
 /* grid.c */
 int nt__grid_level(const nt_world *w, nt_vec2 half); /* the level a body of this size sits in */
@@ -490,7 +491,6 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m); /* box pair:
 
 /* response.c */
 nt_status nt__step(nt_world *w, nt_real dt);
-nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax); /* a velocity whose square overflows, at speed vmax */
 
 /* cast.c: a shape a cast accepts (box or circle, half-sizes in (0, NT_MAX_HALF_CELLS
  * cells]); nt_world_cast_shape with the filter by pointer, and shape_known when the

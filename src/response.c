@@ -1092,23 +1092,6 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     return n;
 }
 
-/* A velocity whose squared length overflows (huge gravity times a huge gravity
- * scale, say): keep its direction at speed vmax; NaN parts become 0. */
-nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax)
-{
-    nt_real x = v.x == v.x ? v.x : 0, y = v.y == v.y ? v.y : 0;
-    if (nt__fabs(x) > NT_REAL_MAX || nt__fabs(y) > NT_REAL_MAX) { /* an infinity: its sign is the direction */
-        x = nt__fabs(x) > NT_REAL_MAX ? (x > 0 ? R(1) : R(-1)) : 0;
-        y = nt__fabs(y) > NT_REAL_MAX ? (y > 0 ? R(1) : R(-1)) : 0;
-    }
-    nt_real m = nt__max(nt__fabs(x), nt__fabs(y));
-    if (m == 0) return nt_v2(0, 0);
-    x /= m;
-    y /= m;
-    nt_real l = nt__sqrt(x * x + y * y);
-    return nt_v2(x / l * vmax, y / l * vmax);
-}
-
 static void move_bodies(nt_world *w, nt_real dt)
 {
     nt_real maxd = w->def.max_cells_per_step * w->cell;

@@ -824,6 +824,23 @@ nt_body_type nt_body_get_type(const nt_world *w, nt_body_id id)
     return b ? nt__character_type(w, id.index1 - 1) : NT_BODY_STATIC;
 }
 
+/* The world owns the character records (character.c fills them): a destroyed body
+ * stops being one, and a body's own type is the one it was created as. */
+void nt__character_remove(nt_world *w, int32_t i)
+{
+    int32_t k = w->cold[i].character;
+    if (k < 0) return;
+    w->cold[i].character = -1;
+    w->chars[k] = w->chars[--w->char_count];
+    if (k < w->char_count) w->cold[w->chars[k].body].character = k;
+}
+
+nt_body_type nt__character_type(const nt_world *w, int32_t i)
+{
+    int32_t k = w->cold[i].character;
+    return k >= 0 ? (nt_body_type)w->chars[k].type : (nt_body_type)w->bodies[i].type;
+}
+
 void nt__set_kinematic(nt_world *w, int32_t i, bool kinematic)
 {
     nt__body *b = &w->bodies[i];
