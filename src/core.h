@@ -201,15 +201,15 @@ enum {
     NT__BF_ALIVE = 8,
     NT__BF_MARK = 16,      /* scratch mark within one phase of a step */
     NT__BF_MOVED = 32,     /* scratch: moved by position correction */
-    NT__BF_SHIFT = 32,     /* scratch, velocity solve to move: a time-of-impact shift (response.c) */
     NT__BF_RESTING = 64,   /* rest_p is a fixed point of the tile resolution (see move_dynamic) */
     NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 /* nt__body.motion: this step's velocity solve has a contact on the body; the body
  * began the previous step's move with no tile contact (with none now either, it has
- * been in the air for a whole step: its flight is the parabola). */
-enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2 };
+ * been in the air for a whole step: its flight is the parabola); from the velocity
+ * solve to the move, a time-of-impact shift waits in scratch_r (response.c). */
+enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */ };

@@ -772,14 +772,14 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
  * contact): its velocity change holds the weight too, which is no impact. (Tile
  * contacts are answered before the solve, tile_solve.) Per body in the contacts:
  * scratch_r[2i] the earliest such t (NT_REAL_MAX: none), scratch_r[2i + 1] 1 when
- * resting on a body; NT__BF_SHIFT marks the slots in use (then, from the write-back
+ * resting on a body; NT__MF_SHIFT marks the slots in use (then, from the write-back
  * to the move, the shift itself). */
 static inline void toi_note(nt_world *w, int32_t i, int touch, nt_real toi)
 {
     nt__body *b = &w->bodies[i];
     nt_real *s = &w->scratch_r[2 * i];
-    if (!(b->flags & NT__BF_SHIFT)) {
-        b->flags |= NT__BF_SHIFT;
+    if (!(b->motion & NT__MF_SHIFT)) {
+        b->motion |= NT__MF_SHIFT;
         s[0] = NT_REAL_MAX;
         s[1] = 0;
     }
@@ -792,9 +792,9 @@ static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
 {
     nt__body *b = &w->bodies[i];
     nt_real *s = &w->scratch_r[2 * i];
-    if (!(b->flags & NT__BF_SHIFT)) return;
+    if (!(b->motion & NT__MF_SHIFT)) return;
     if (s[0] == NT_REAL_MAX || s[1] != 0 || wi <= 0) {
-        b->flags &= (uint8_t)~NT__BF_SHIFT;
+        b->motion &= (uint8_t)~NT__MF_SHIFT;
         return;
     }
     nt_real t = s[0];
@@ -995,10 +995,10 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
     /* The time-of-impact shift (toi_shift), swept with the step's own travel. */
-    int shifted = (b->flags & NT__BF_SHIFT) != 0;
+    int shifted = (b->motion & NT__MF_SHIFT) != 0;
     nt_vec2 shift = nt_v2(0, 0);
     if (shifted) {
-        b->flags &= (uint8_t)~NT__BF_SHIFT;
+        b->motion &= (uint8_t)~NT__MF_SHIFT;
         shift = nt_v2(w->scratch_r[2 * i], w->scratch_r[2 * i + 1]);
         disp = nt__add(disp, shift);
     }

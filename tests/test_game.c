@@ -463,6 +463,55 @@ static void test_player_launch_pad(void **state)
     nt_level_destroy(lv);
 }
 
+/* Solid bodies (not sensors) that are static or kinematic make no contact with the
+ * player (a character, kinematic to the world step): the game finds their touches
+ * itself. A deadly spike of each type kills the player landing on it. (Score bodies
+ * are sensors: the level format says so.) */
+static void test_solid_deadly(void **state)
+{
+    (void)state;
+    const char *types[3] = {"static", "kinematic", "dynamic"};
+    for (int k = 0; k < 3; k++) {
+        char extra[256];
+        snprintf(extra, sizeof extra, "player 200 150\nbody spike %s box 12 5 at 200 259 deadly\n", types[k]);
+        nt_level *lv = wide_room("", extra);
+        nt_game *g = game_from(lv, NULL);
+        steps(g, 0, 60);
+        assert_false(nt_game_get_state(g).alive);
+        nt_game_destroy(g);
+        nt_level_destroy(lv);
+    }
+}
+
+/* Standing on a launch pad is standing: on the floor every tick, and a jump from it
+ * rises as high as from any floor (only impacts faster than the restitution threshold
+ * bounce). */
+static void test_rest_on_launch_pad(void **state)
+{
+    (void)state;
+    nt_level *lv = wide_room("material 1 0 0.8\n", "player 200 254\n");
+    nt_game *g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    for (int x = 6; x < 11; x++) assert_int_equal(nt_world_set_cell_material(w, x, 11, 1), NT_OK);
+    steps(g, 0, 40); /* any first hop dies out */
+    int on = 0;
+    for (int i = 0; i < 100; i++) {
+        steps(g, 0, 1);
+        on += nt_game_get_state(g).on_floor;
+    }
+    assert_int_equal(on, 100);
+    double y0 = (double)ppos(g).y, top = y0;
+    for (int i = 0; i < 80; i++) {
+        steps(g, NT_INPUT_JUMP, 1);
+        top = fmin(top, (double)ppos(g).y);
+    }
+    double v0 = (double)nt_default_player_def().jump_speed * 24;
+    double want = v0 * v0 / (2 * 320 * (double)nt_default_player_def().jump_gravity_scale);
+    assert_true(fabs((y0 - top) - want) <= v0 * (double)DT);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
 /* ---------------------------------------------------------------- level objects */
 
 static const char objects_level[] = "ntile-level 1\nsize 20 6\ntiles\n"
@@ -979,6 +1028,13 @@ static void test_game_errors(void **state)
     def = nt_default_game_def();
     def.player.jump_speed = R(NAN);
     assert_int_equal(nt_game_create(lv, &def, &g), NT_ERR_INVALID_ARGUMENT);
+    def = nt_default_game_def();
+    def.player.mover.max_slides = 0; /* the mover's settings are checked up front */
+    assert_int_equal(nt_game_create(lv, &def, &g), NT_ERR_INVALID_ARGUMENT);
+    def = nt_default_game_def();
+    def.player.mover.floor_angle = R(2);
+    assert_int_equal(nt_game_create(lv, &def, &g), NT_ERR_INVALID_ARGUMENT);
+    assert_null(g);
     /* A friction-model override must suit the level's materials. */
     lv->materials[2].friction = 2;
     lv->friction_model = NT_FRICTION_COULOMB;
@@ -1008,6 +1064,8 @@ int main(void)
         cmocka_unit_test(test_player_runs_down_slopes),
         cmocka_unit_test(test_player_drops_through_one_way),
         cmocka_unit_test(test_player_launch_pad),
+        cmocka_unit_test(test_solid_deadly),
+        cmocka_unit_test(test_rest_on_launch_pad),
         cmocka_unit_test(test_gold_exit_and_regions),
         cmocka_unit_test(test_changes_through_the_game),
         cmocka_unit_test(test_death),

@@ -13,10 +13,19 @@
  * source (nt_rng) is seeded from the level's seed or the replay's.
  *
  * Tick order: (1) paths set the kinematic velocities that land their bodies on the
- * path at the end of the tick; (2) spawners fire; (3) the controller reads the
- * player's contacts from the previous step and sets its velocity; (4) the world
- * steps; (5) sensor and contact events (gold, deadly bodies), then regions (exit,
- * score, kill), are applied.
+ * path at the end of the tick; (2) spawners fire; (3) the controller steers the
+ * player from the keys and what it met last tick, and moves it with the character
+ * mover (nt_character_move: floor snap, slopes, steps, platforms, one-way floors);
+ * (4) the world steps (the player is a character: the step does not move it, and
+ * pushes the dynamic bodies it walked into); (5) touches (sensor and contact events,
+ * and the solid static or kinematic bodies within a hundredth of a cell of the
+ * player: gold, deadly bodies), then regions (exit, score, kill), are applied.
+ *
+ * The player: left/right run, jump (held: higher), a wall slide and wall jump, and
+ * down + jump drops through the one-way floor underfoot. A dead player takes no
+ * input: it falls and comes to rest. After each tick nt_body_get_velocity(player)
+ * reads its velocity in the world's frame; a velocity set there between ticks
+ * replaces the controller's.
  */
 #ifndef NTILE_GAME_H
 #define NTILE_GAME_H
@@ -54,7 +63,7 @@ typedef struct nt_player_def {
     nt_real radius;             ///< cells, > 0 and at most 0.5 (N's ninja: 10/24). The player stays
                                 ///< small: its controller (floor probe, wall sensing) is tuned for
                                 ///< a ninja; other bodies may be up to NT_MAX_HALF_CELLS cells.
-    nt_real mass;
+    nt_real mass;               ///< > 0; the player is a character, infinitely heavy to what it pushes: kept for the body's record
     nt_real run_speed;          ///< cells/s, top speed from input
     nt_real ground_accel;       ///< cells/s^2 toward run speed on the ground
     nt_real ground_decel;       ///< cells/s^2 toward rest on the ground with no direction held
@@ -69,7 +78,8 @@ typedef struct nt_player_def {
     nt_real max_fall_speed;     ///< cells/s
     nt_real grace_time;         ///< s: a jump still counts this long after leaving a floor or wall
     nt_real bouncy_threshold;   ///< tiles with bounce above this launch the player; others absorb its bounce
-    nt_character_def mover;     ///< the character mover's settings (character.h; default nt_default_character_def())
+    nt_character_def mover;     ///< the character mover's settings (character.h; default nt_default_character_def()),
+                                ///< checked like nt_character_create's (else NT_ERR_INVALID_ARGUMENT)
 } nt_player_def;
 
 /// The defaults described above.

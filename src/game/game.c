@@ -172,6 +172,13 @@ static int player_def_ok(const nt_player_def *p)
                          p->bouncy_threshold};
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
         if (!isfinite(v[i]) || v[i] < 0) return 0;
+    /* The mover's settings, as nt_character_create checks them (a def not made by
+     * nt_default_player_def() must not fail later, at creation, without a reason). */
+    const nt_character_def *m = &p->mover;
+    if (!isfinite(m->floor_angle) || !isfinite(m->snap_cells) || !isfinite(m->step_cells) || m->floor_angle < 0 ||
+        m->floor_angle > (nt_real)1.5707963267948966 || m->snap_cells < 0 || m->snap_cells > 2 * NT_MAX_HALF_CELLS ||
+        m->step_cells < 0 || m->step_cells > 2 * NT_MAX_HALF_CELLS || m->max_slides < 1 || m->max_slides > 16)
+        return 0;
     /* The player stays within half a cell though bodies may be larger (game.h). */
     return p->radius > 0 && p->radius <= (nt_real)0.5 && p->mass > 0;
 }
@@ -490,11 +497,15 @@ static void apply_events(nt_game *g)
     nt_body_id pid = g->bodies[g->player_record].id;
     nt_sensor_events se = nt_world_get_sensor_events(g->world);
     nt_contact_events ce = nt_world_get_contact_events(g->world);
-    int n = se.begin_count + ce.begin_count;
+    nt_body_id near[16];
+    int nn = g->dead ? 0 : nt__player_touches(g, near, 16);
+    if (nn > 16) nn = 16; /* the rest on the next ticks (gold goes as it is taken) */
+    int n = se.begin_count + ce.begin_count + nn;
     if (n == 0) return;
     nt_body_id *touched = malloc((size_t)n * sizeof *touched);
     if (!touched) return;
     int m = 0;
+    for (int i = 0; i < nn; i++) touched[m++] = near[i];
     for (int i = 0; i < se.begin_count; i++)
         if (nt_body_id_equals(se.begin_events[i].visitor, pid)) touched[m++] = se.begin_events[i].sensor;
     for (int i = 0; i < ce.begin_count; i++) {

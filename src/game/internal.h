@@ -59,4 +59,10 @@ void nt__player_sense(nt_game *g);
 /* Steer the player from the keys and move it with the character mover, before the world step (player.c). */
 void nt__player_control(nt_game *g, uint32_t keys, nt_real dt);
 
+/* The static and kinematic bodies (sensors aside) within a hundredth of a cell of the
+ * player: the world step makes no contacts between them and a character, so touches
+ * of solid gold and deadly bodies are found here (player.c). Writes at most cap, returns
+ * how many there are. */
+int nt__player_touches(const nt_game *g, nt_body_id *out, int cap);
+
 #endif

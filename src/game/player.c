@@ -65,7 +65,9 @@ void nt__player_sense(nt_game *g)
      * world's frame; a velocity set there by the game's user replaces the
      * controller's at the next tick (nt__player_control compares). */
     ps->shown = add(ps->vel, ps->on_floor ? ps->move.floor_velocity : nt_v2(0, 0));
-    /* Only when it differs: setting a velocity wakes what the player touches. */
+    /* Only when it differs (setting one wakes what the player touches; the step sets a
+     * character's to zero, so a player at rest on a still floor is left alone, and
+     * one that moves keeps what it touches awake anyway, as any moving kinematic body). */
     nt_vec2 now = nt_body_get_velocity(w, id);
     if (memcmp(&now, &ps->shown, sizeof now) != 0) nt_body_set_velocity(w, id, ps->shown);
 }
@@ -84,16 +86,19 @@ static nt_real tile_bounce(const nt_game *g, nt_body_id id, nt_vec2 n)
 }
 
 /* N's ninja lands softly, but tiles bouncier than the threshold (launch pads) throw it
- * back: the part of the velocity `in` that went into a surface the move met comes
- * back times the tile's bounce. */
-static nt_vec2 launch(const nt_game *g, nt_body_id id, nt_vec2 in, nt_vec2 out, const nt_character_result *r)
+ * back: the part of the velocity `in` that went into a surface the move met (a floor
+ * when landing, a wall or a ceiling) comes back times the tile's bounce. */
+static nt_vec2 launch(const nt_game *g, nt_body_id id, nt_vec2 in, nt_vec2 out, const nt_character_result *r, bool ground)
 {
     const nt_vec2 normals[3] = {r->floor_normal, r->wall_normal, r->ceiling_normal};
-    const bool met[3] = {r->on_floor, r->on_wall, r->on_ceiling};
+    const bool met[3] = {r->on_floor && !ground, r->on_wall, r->on_ceiling}; /* a floor: when landing on it */
+    /* The world's restitution threshold (the level's world scales it with the cell):
+     * slower impacts, a player standing on a pad included, do not bounce. */
+    nt_real slow = nt_default_world_def().restitution_threshold * g->cell / 24;
     for (int k = 0; k < 3; k++) {
         nt_vec2 n = normals[k];
         nt_real into = -(in.x * n.x + in.y * n.y);
-        if (!met[k] || into <= 0) continue;
+        if (!met[k] || into <= slow) continue;
         nt_real e = tile_bounce(g, id, n);
         if (e <= g->def.player.bouncy_threshold) continue;
         nt_real now = out.x * n.x + out.y * n.y;
@@ -168,7 +173,7 @@ void nt__player_control(nt_game *g, uint32_t keys, nt_real dt)
 
     nt_character_result r;
     if (nt_character_move(w, id, v, dt, &r) != NT_OK) return; /* cannot fail on the game's own player */
-    nt_vec2 out = launch(g, id, v, r.velocity, &r);
+    nt_vec2 out = launch(g, id, v, r.velocity, &r, ground);
     /* Thrown off the floor by a launch pad: in the air from now on. */
     if (r.on_floor && (out.x != r.velocity.x || out.y != r.velocity.y) &&
         out.x * r.floor_normal.x + out.y * r.floor_normal.y > 0)
@@ -179,4 +184,44 @@ void nt__player_control(nt_game *g, uint32_t keys, nt_real dt)
     else ps->run = out.x;
     ps->vel = out;
     ps->move = r;
+}
+
+typedef struct touch_probe {
+    nt_body_id self;
+    nt_vec2 pos;
+    nt_shape shape; /* the player's, grown by the margin */
+    nt_body_id *out;
+    int n, cap;
+    const nt_world *world;
+} touch_probe;
+
+static bool touch_fn(nt_body_id id, void *ctx)
+{
+    touch_probe *t = ctx;
+    if (nt_body_id_equals(id, t->self) || nt_body_get_type(t->world, id) == NT_BODY_DYNAMIC) return true;
+    if (!nt_collide_shapes(t->pos, t->shape, nt_body_get_position(t->world, id), nt_body_get_shape(t->world, id), NULL))
+        return true;
+    if (t->n < t->cap) t->out[t->n] = id;
+    t->n++;
+    return true;
+}
+
+int nt__player_touches(const nt_game *g, nt_body_id *out, int cap)
+{
+    const nt_world *w = g->world;
+    nt_body_id id = g->bodies[g->player_record].id;
+    touch_probe t;
+    t.self = id;
+    t.pos = nt_body_get_position(w, id);
+    t.shape = nt_body_get_shape(w, id);
+    nt_real m = g->cell * (nt_real)0.01;
+    t.shape.half = nt_v2(t.shape.half.x + m, t.shape.half.y + m);
+    t.out = out;
+    t.n = 0;
+    t.cap = cap;
+    t.world = w;
+    nt_vec2 lo = nt_v2(t.pos.x - t.shape.half.x, t.pos.y - t.shape.half.y);
+    nt_vec2 hi = nt_v2(t.pos.x + t.shape.half.x, t.pos.y + t.shape.half.y);
+    nt_world_overlap_aabb(w, lo, hi, nt_default_query_filter(), touch_fn, &t);
+    return t.n;
 }

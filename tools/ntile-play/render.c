@@ -285,10 +285,13 @@ static int make_rays(const pg *p, nt_debug_ray *rays)
         nt_query_filter self = f;
         self.ignore_count = 1;
         self.ignore[0] = pl;
-        nt_debug_ray *ray = &rays[n++];
-        ray->p0 = nt_body_get_position(w, pl);
-        ray->p1 = nt_v2((nt_real)m.x, (nt_real)m.y);
-        ray->hit = nt_world_raycast(w, ray->p0, ray->p1, self, &ray->result);
+        nt_vec2 c = nt_body_get_position(w, pl), to = nt_v2((nt_real)m.x, (nt_real)m.y);
+        if (c.x != to.x || c.y != to.y) { /* none when the mouse is on its centre */
+            nt_debug_ray *ray = &rays[n++];
+            ray->p0 = c;
+            ray->p1 = to;
+            ray->hit = nt_world_raycast(w, ray->p0, ray->p1, self, &ray->result);
+        }
     }
     return n;
 }
