@@ -212,7 +212,7 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
-enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */ };
+enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16 };
 /* Broad-phase levels: level 0 is N's grid (bodies up to half a cell), level k holds
  * bodies up to 2^(k-1) cells in cells 2^k wide, up to NT_MAX_HALF_CELLS. */
 #define NT__LEVELS 4
@@ -389,6 +389,11 @@ struct nt_world {
     int32_t *wake_list;        /* bodies to wake after pair finding (capacity body_cap) */
     nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
+    int32_t *level;            /* per body: touching contacts from the ground, this step (response.c) */
+    int32_t *level_q;          /* 2 per body: adjacency starts and ends, then level buckets */
+    int32_t *adj, *corder;     /* per contact: adjacency (2 each), contacts by level */
+    int adj_cap, corder_cap;
+    int leveled;               /* level[] holds this step's levels */
     int wake_count;
     nt_world_counters counters;
     int profiling;

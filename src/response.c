@@ -248,6 +248,8 @@ static nt_status collide(nt_world *w, nt_real dt)
     GROW(w->ev_send, 0, w->cap_send, no);
     GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
     GROW(w->sort_keys, 0, w->sort_cap, 4 * nn);
+    GROW(w->adj, 0, w->adj_cap, 2 * need);
+    GROW(w->corder, 0, w->corder_cap, need);
 
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
@@ -275,7 +277,7 @@ static nt_status collide(nt_world *w, nt_real dt)
             if (o->gen_a == c->gen_a && o->gen_b == c->gen_b) {
                 if (c->flags & NT__CF_TOUCH) keep_box_axis(w, o, c);
                 /* Warm start only while the normal holds. */
-                if (nt__dot(o->n, c->n) > R(0.95)) {
+                if (nt__dot(o->n, c->n) > R(0.95) && !(o->flags & NT__CF_BOUNCED)) {
                     c->ln = o->ln;
                     c->lt = o->lt;
                 }
@@ -587,6 +589,118 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
     }
 }
 
+/* ---------------------------------------------------------------- levels */
+
+/* Levels: how many touching contacts each body is from the ground (a tile surface that
+ * holds it against gravity, or a body that does not move), found breadth first over
+ * the contacts, and the contacts ordered by the lower level of their pair. In a stack
+ * or a pile the lower body of a pair is the one nearer the ground: the velocity
+ * solve's last pass (shock_pass) goes up the levels with it not giving way. w->leveled
+ * is 0 without gravity (no ground) and when no body touches the ground; bodies not
+ * connected to the ground by touching contacts get NT__NO_LEVEL. */
+#define NT__NO_LEVEL INT32_MAX
+static inline int level_pair(const nt_world *w, const nt__contact *c)
+{
+    if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) return 0;
+    const nt__body *a = &w->bodies[key_a(c->key)];
+    return c->depth > -nt__skin(w, a->p);
+}
+
+static void compute_levels(nt_world *w)
+{
+    w->leveled = 0;
+    nt_vec2 g = w->def.gravity;
+    if ((g.x == 0 && g.y == 0) || w->con_count == 0) return;
+    int32_t *lv = w->level, *start = w->level_q, *end = w->level_q + w->body_cap, *queue = w->scratch_a;
+    int32_t *adj = w->adj, *order = w->corder;
+    int nc = w->con_count;
+    for (int k = 0; k < nc; k++) {
+        int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
+        lv[ia] = lv[ib] = NT__NO_LEVEL;
+        end[ia] = end[ib] = 0;
+    }
+    /* Roots, and the degrees of touching pairs of moving bodies (in end[]). */
+    int nq = 0;
+    for (int k = 0; k < nc; k++) {
+        const nt__contact *c = &w->con[k];
+        if (!level_pair(w, c)) continue;
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        const nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+        nt_real wa = solver_w(a), wb = solver_w(b);
+        for (int s2 = 0; s2 < 2; s2++) {
+            int32_t i = s2 ? ib : ia;
+            const nt__body *bi = s2 ? b : a;
+            if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
+            int root = (s2 ? wa : wb) <= 0;
+            for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
+            if (root) {
+                lv[i] = 0;
+                queue[nq++] = i;
+            }
+        }
+        if (wa > 0 && wb > 0) end[ia]++, end[ib]++;
+    }
+    if (nq == 0) return;
+    /* Each body's list: start[i] .. end[i] in adj. */
+    int sum = 0;
+    for (int k = 0; k < nc; k++) {
+        int32_t ids[2] = {key_a(w->con[k].key), key_b(w->con[k].key)};
+        for (int s2 = 0; s2 < 2; s2++) {
+            int32_t i = ids[s2];
+            if (end[i] < 0) continue; /* placed already: -1 - degree */
+            start[i] = sum;
+            sum += end[i];
+            end[i] = -1 - end[i];
+        }
+    }
+    for (int k = 0; k < nc; k++) {
+        int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
+        if (end[ia] < 0) end[ia] = start[ia];
+        if (end[ib] < 0) end[ib] = start[ib];
+    }
+    for (int k = 0; k < nc; k++) {
+        const nt__contact *c = &w->con[k];
+        if (!level_pair(w, c)) continue;
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        if (solver_w(&w->bodies[ia]) <= 0 || solver_w(&w->bodies[ib]) <= 0) continue;
+        adj[end[ia]++] = ib;
+        adj[end[ib]++] = ia;
+    }
+    /* Breadth first from the roots. */
+    int32_t top = 0;
+    for (int h = 0; h < nq; h++) {
+        int32_t i = queue[h], l = lv[i] + 1;
+        for (int32_t e = start[i]; e < end[i]; e++) {
+            int32_t j = adj[e];
+            if (lv[j] != NT__NO_LEVEL) continue;
+            lv[j] = l;
+            top = l;
+            queue[nq++] = j;
+        }
+    }
+    /* The contacts by the lower level of their pair (a counting sort, stable: key
+     * order within a level); pairs without a level last. */
+    int32_t *count = start; /* top + 2 buckets: levels 0..top, then none */
+    for (int32_t l = 0; l <= top + 1; l++) count[l] = 0;
+    for (int k = 0; k < nc; k++) {
+        int32_t la = lv[key_a(w->con[k].key)], lb = lv[key_b(w->con[k].key)];
+        int32_t l = la < lb ? la : lb;
+        count[l == NT__NO_LEVEL ? top + 1 : l]++;
+    }
+    int32_t at = 0;
+    for (int32_t l = 0; l <= top + 1; l++) {
+        int32_t n = count[l];
+        count[l] = at;
+        at += n;
+    }
+    for (int k = 0; k < nc; k++) {
+        int32_t la = lv[key_a(w->con[k].key)], lb = lv[key_b(w->con[k].key)];
+        int32_t l = la < lb ? la : lb;
+        order[count[l == NT__NO_LEVEL ? top + 1 : l]++] = k;
+    }
+    w->leveled = 1;
+}
+
 /* ---------------------------------------------------------------- 2. correct */
 
 /* True when pushing b along dir drives it into a tile surface it rests on. */
@@ -802,6 +916,29 @@ static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
     s[1] = (b->v.y - v.y) * t;
 }
 
+/* After the iterations, which leave a tall stack still closing a little at every
+ * level: one pass up the levels in which the body nearer the ground does not give
+ * way (shock propagation), so that no pair ends approaching faster than its target. */
+static void shock_pass(nt_world *w)
+{
+    nt__svel *sv = w->svel;
+    for (int q = 0; q < w->con_count; q++) {
+        nt__contact *c = &w->con[w->corder[q]];
+        if (c->meff <= 0) continue;
+        int32_t la = w->level[key_a(c->key)], lb = w->level[key_b(c->key)];
+        if (la == lb) continue;
+        nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
+        nt_vec2 n = c->n;
+        nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
+        if (!(vn < c->bias)) continue;
+        if (la < lb) {
+            if (b->w > 0) b->v = nt__add(b->v, nt__scale(n, c->bias - vn));
+        } else {
+            if (a->w > 0) a->v = nt__sub(a->v, nt__scale(n, c->bias - vn));
+        }
+    }
+}
+
 static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 {
     nt_friction_model model = w->def.friction_model;
@@ -839,7 +976,14 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         int touch = c->depth > -nt__skin(w, a->p);
         int hits = touch ? vn0 < 0 : vn0 * dt < c->depth;
         c->bias = touch ? 0 : c->depth / dt;
-        if (hits && vn0 < -w->def.restitution_threshold) c->bias = nt__max(c->bias, -c->bounce * vn0);
+        /* A bounce is an impact, not a lasting push: its impulse is not carried over as
+         * the next step's warm start (which would push the separating bodies apart
+         * again: energy from nothing in a gas of bouncing bodies). */
+        c->flags &= ~(uint32_t)NT__CF_BOUNCED;
+        if (hits && vn0 < -w->def.restitution_threshold) {
+            c->bias = nt__max(c->bias, -c->bounce * vn0);
+            if (c->bounce > 0) c->flags |= NT__CF_BOUNCED;
+        }
         nt_real toi = hits && !touch && vn0 < -w->def.restitution_threshold && c->bounce == 0 ? c->depth / vn0 : -1;
         toi_note(w, key_a(c->key), touch, toi);
         toi_note(w, key_b(c->key), touch, toi);
@@ -903,6 +1047,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         }
         /* Tiles have the last word: no velocity into a surface after the solve. */
         for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
+        if (w->leveled) shock_pass(w);
     }
     /* Back to the bodies: velocities (of every solver body: one that does not move
      * received zero impulses, which can still turn a -0 into +0, as on the bodies)
@@ -1274,6 +1419,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
     if (s != NT_OK) return s;
     if (w->profiling) t[2] = clock_ms();
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
+    compute_levels(w);
     correct_positions(w);
     if (w->profiling) t[3] = clock_ms();
     solve_velocities(w, dt, ratio);

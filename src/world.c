@@ -109,7 +109,11 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     int32_t *wk = (int32_t *)nt__alloc(n * sizeof *wk);
     nt__svel *sv = (nt__svel *)nt__alloc(n * sizeof *sv);
     nt__stile *st = (nt__stile *)nt__alloc(n * sizeof *st);
-    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st) {
+    int32_t *lv = (int32_t *)nt__alloc(n * sizeof *lv);
+    int32_t *lq = (int32_t *)nt__alloc(2 * n * sizeof *lq);
+    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq) {
+        nt__free(lv);
+        nt__free(lq);
         nt__free(wk);
         nt__free(sv);
         nt__free(st);
@@ -136,6 +140,10 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__free(w->woken);
     nt__free(w->svel);
     nt__free(w->stile);
+    nt__free(w->level);
+    nt__free(w->level_q);
+    w->level = lv;
+    w->level_q = lq;
     w->woken = wk;
     w->svel = sv;
     w->stile = st;
@@ -197,6 +205,10 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->wake_list);
     nt__free(w->svel);
     nt__free(w->stile);
+    nt__free(w->level);
+    nt__free(w->level_q);
+    nt__free(w->adj);
+    nt__free(w->corder);
     nt__free(w->heads);
     nt__free(w->occupied);
     nt__free(w->rest_near);

@@ -171,7 +171,7 @@ static void check_restitution(const pair_run *r, double e)
     double vn0 = r->vrel0[0] * n[0] + r->vrel0[1] * n[1], vn1 = r->vrel1[0] * n[0] + r->vrel1[1] * n[1];
     double vt0 = -r->vrel0[0] * n[1] + r->vrel0[1] * n[0], vt1 = -r->vrel1[0] * n[1] + r->vrel1[1] * n[0];
     assert_true(vn0 < 0);
-    assert_true(fabs(vn1 + e * vn0) <= 1e-5 * fabs(vn0));
+    if (!(fabs(vn1 + e * vn0) <= 1e-5 * fabs(vn0))) fail_msg("e %g vn0 %.9f vn1 %.9f", e, vn0, vn1);
     assert_true(fabs(vt1 - vt0) <= 1e-5 * fabs(vn0));
 }
 

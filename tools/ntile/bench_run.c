@@ -107,13 +107,13 @@ static const char *analytic(char *buf, size_t n, const metrics *m)
 
 void bench_print_header(const char *first)
 {
-    printf("%-26s %7s %7s %10s %7s %9s %9s %9s %6s %6s %9s %8s %9s %12s\n", first, "bodies", "awake",
-           "ns/body-step", "spread", "pen", "overlap", "p99", "deep", "tunnel", "ghost", "energy", "jitter", "analytic");
+    printf("%-26s %7s %7s %10s %7s %9s %9s %9s %9s %6s %6s %9s %8s %9s %12s\n", first, "bodies", "awake",
+           "ns/body-step", "spread", "pen", "overlap", "p99", "settled", "deep", "tunnel", "ghost", "energy", "jitter", "analytic");
 }
 
 void bench_print_row(const char *label, const run_result *r, const char *extra)
 {
-    char a[32], b[32], c[32], d[32], e[32], p[32];
+    char a[32], b[32], c[32], d[32], e[32], p[32], q[32];
     const metrics *m = &r->m;
     char ghost[32];
     if (m->ghost_bumps < 0) snprintf(ghost, sizeof ghost, "-");
@@ -126,9 +126,9 @@ void bench_print_row(const char *label, const run_result *r, const char *extra)
      * thousandths of a nanosecond). */
     if (r->ns >= 1) snprintf(ns, sizeof ns, "%.2f", r->ns);
     else snprintf(ns, sizeof ns, "%.2g", r->ns);
-    printf("%-26s %7d %7d %10s %6.1f%% %9s %9s %9s %6s %6d %9s %8s %9s %12s%s\n", label, r->bodies, r->awake, ns,
+    printf("%-26s %7d %7d %10s %6.1f%% %9s %9s %9s %9s %6s %6d %9s %8s %9s %12s%s\n", label, r->bodies, r->awake, ns,
            run_spread(r), fig(a, sizeof a, "%.2g", m->penetration), fig(b, sizeof b, "%.2g", m->overlap),
-           fig(p, sizeof p, "%.2g", m->overlap_p99), deep, m->tunnelled, ghost, fig(c, sizeof c, "%.2g", m->energy_drift), fig(d, sizeof d, "%.2g", m->jitter),
+           fig(p, sizeof p, "%.2g", m->overlap_p99), fig(q, sizeof q, "%.2g", m->settled), deep, m->tunnelled, ghost, fig(c, sizeof c, "%.2g", m->energy_drift), fig(d, sizeof d, "%.2g", m->jitter),
            analytic(e, sizeof e, m), extra ? extra : "");
 }
 
@@ -137,12 +137,12 @@ void bench_print_legend(void)
     printf("# ns/body-step: median of the timed runs; spread: (max - min) / 2 / median over the runs.\n"
            "# pen: deepest penetration into a tile (cells, ntile's exact nt_map_overlap_depth);\n"
            "# overlap: deepest overlap of two colliding bodies (cells); p99: 99th percentile over the steps of\n"
-           "# each step's deepest overlap (cells); deep: pair-steps overlapping by %.2g cell or more (a pair\n"
+           "# each step's deepest overlap (cells); settled: deepest overlap after the first %.2g s; deep: pair-steps overlapping by %.2g cell or more (a pair\n"
            "# counts once per step it ends that deep); tunnel: bodies whose centre ended in\n"
            "# solid or outside the map, or passed through solid; ghost: bodies that moved up faster than\n"
            "# %.2g cell/s sliding on a flat floor; energy: max |E - E0| / E0 (bounce 1 bodies); jitter: largest\n"
            "# move of a body that should rest (cells); analytic: relative error of bounce apex heights,\n"
            "# incline acceleration or free-flight path. '-': nothing in the scene it applies to.\n",
-           DEEP_OVERLAP, GHOST_SPEED);
+           SETTLE_TIME, DEEP_OVERLAP, GHOST_SPEED);
 }
 

@@ -55,7 +55,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
                 run_result r = bench_run(&engine_ntile, &none, &s, opts->runs, 0);
                 scene_free(&s);
                 if (!r.ok) return CLI_USAGE;
-                r.m = (metrics){-1, -1, 0, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+                r.m = (metrics){-1, -1, 0, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
                 bench_print_row(labels[j], &r, NULL);
                 lo = r.ns < lo ? r.ns : lo;
                 hi = r.ns > hi ? r.ns : hi;

@@ -245,6 +245,7 @@ void metrics_step(metrics_tracker *t, const body_state *st)
         long deep;
         double worst = body_overlap(t, st, &deep);
         t->m.overlap = maxd(t->m.overlap, worst);
+        if (t->step * s->dt > SETTLE_TIME + 1e-9) t->m.settled = maxd(t->m.settled, worst);
         t->m.deep_pairs += deep;
         if (t->step > t->step_overlap_cap) { /* on failure the percentile leaves the step out */
             int cap = t->step_overlap_cap ? 2 * t->step_overlap_cap : 1024;
@@ -304,6 +305,7 @@ metrics metrics_get(const metrics_tracker *t)
         if (s->bodies[i].role == ROLE_BOUNCE && t->apex_count[i] < MAX_APEX) m.bounce_error = maxd(m.bounce_error, 1);
     if (t->has_collide) m.overlap_p99 = overlap_p99(t);
     else m.overlap = -1, m.overlap_p99 = -1, m.deep_pairs = -1;
+    if (!t->has_collide || !(t->step * s->dt > SETTLE_TIME + 1e-9)) m.settled = -1;
     if (!t->has_slide) m.ghost_bumps = -1, m.max_up = -1, m.speed_loss = -1;
     if (!t->has_energy) m.energy_drift = -1;
     if (!t->has_rest) m.jitter = -1, m.rest_speed = -1;

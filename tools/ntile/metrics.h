@@ -7,6 +7,8 @@
  *   overlap      deepest overlap between two bodies that collide (nt_collide_shapes), cells
  *   overlap_p99  99th percentile over the steps of each step's deepest overlap, cells (a
  *                single deepest event is a noisy measure)
+ *   settled      deepest overlap between two bodies after the first second of the run
+ *                (SETTLE_TIME), cells: a stack dropped in place settles first
  *   deep_pairs   pair-steps overlapping by DEEP_OVERLAP cell or more: a pair counts once
  *                for every step it ends that deep
  *   tunnelled    bodies that, at the end of some step, had their centre inside a solid
@@ -35,6 +37,8 @@
 #define GHOST_SPEED 0.05
 /* Body-body overlap (cells) from which a pair counts in deep_pairs. */
 #define DEEP_OVERLAP 0.25
+/* Seconds after which a scene's body overlap counts in `settled`. */
+#define SETTLE_TIME 1.0
 
 /* A body's state in scene units. */
 typedef struct body_state {
@@ -55,6 +59,7 @@ typedef struct metrics {
     double incline_error; /* relative */
     double flight_error;  /* relative */
     double overlap_p99;   /* cells, -1 when no two bodies collide */
+    double settled;       /* cells, -1 when no two bodies collide or the run is not longer than SETTLE_TIME */
     long deep_pairs;      /* pair-steps, -1 when no two bodies collide */
 } metrics;
 
