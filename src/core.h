@@ -208,8 +208,10 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 /* nt__body.motion: this step's velocity solve has a contact on the body; the body
  * began the previous step's move with no tile contact (with none now either, it has
  * been in the air for a whole step: its flight is the parabola); from the velocity
- * solve to the move, a time-of-impact shift waits in scratch_r (response.c). */
-enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4 };
+ * solve to the move, a time-of-impact shift waits in scratch_r (response.c); the move
+ * met a tile surface it had not rested on; the correction after the move must look
+ * at the body's pairs (kicked by the solve, fast, or met a tile: response.c). */
+enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4, NT__MF_MET = 8, NT__MF_KICKED = 16 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16 };
@@ -390,10 +392,11 @@ struct nt_world {
     nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
     int32_t *level;            /* per body: touching contacts from the ground, this step (response.c) */
-    int32_t *level_q;          /* 2 per body: adjacency starts and ends, then level buckets */
+    int32_t *level_q;          /* 3 per body: contact list starts and ends, a queue (response.c) */
     int32_t *adj, *corder;     /* per contact: adjacency (2 each), contacts by level */
     int adj_cap, corder_cap;
     int leveled;               /* level[] holds this step's levels */
+    int kicked_count;          /* bodies marked NT__MF_KICKED this step */
     int wake_count;
     nt_world_counters counters;
     int profiling;

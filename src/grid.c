@@ -500,6 +500,18 @@ static nt_status build_proxies(nt_world *w, int *count)
         uint32_t cellix = (uint32_t)b->gcell >> 1;
         q->cell = cellix;
         q->key = cellix + cellix / gw; /* y * stride + x */
+        /* The searches here meet the bodies of the neighbouring cells only. A pair of
+         * cells two or more apart along an axis can still be a contact when their
+         * proxies overlap: along x, (f_i + ex_i) + ((1 - f_j) + ex_j) > 3 cells (f: a
+         * centre's place in its cell, 0..1), so one of the two reaches beyond 1.5
+         * cells from its cell's far side. Such a body looks for what it overlaps
+         * after the move instead (correct_after_move, response.c). */
+        nt_real fx = b->p.x * w->inv_cell - (nt_real)(cellix % gw), fy = b->p.y * w->inv_cell - (nt_real)(cellix / gw);
+        nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
+        if (rx > R(1.5) || ry > R(1.5)) {
+            w->bodies[i].motion |= NT__MF_KICKED;
+            w->kicked_count++;
+        }
         q->body = i;
         c0[q->key & lo_mask]++;
         c1[q->key >> lo]++;

@@ -572,6 +572,7 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
         }
         nt_real a = nt__dot(b->v, n);
         if (a >= 0) continue;
+        b->motion |= NT__MF_MET;
         nt_real f, e, dn;
         tile_material(w, b, cell_material_index(w, res->contacts[k].cell_x, res->contacts[k].cell_y), &f, &e);
         if (-a < w->def.restitution_threshold) e = 0;
@@ -591,57 +592,21 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
 
 /* ---------------------------------------------------------------- levels */
 
-/* Levels: how many touching contacts each body is from the ground (a tile surface that
- * holds it against gravity, or a body that does not move), found breadth first over
- * the contacts, and the contacts ordered by the lower level of their pair. In a stack
- * or a pile the lower body of a pair is the one nearer the ground: the velocity
- * solve's last pass (shock_pass) goes up the levels with it not giving way. w->leveled
- * is 0 without gravity (no ground) and when no body touches the ground; bodies not
- * connected to the ground by touching contacts get NT__NO_LEVEL. */
-#define NT__NO_LEVEL INT32_MAX
-static inline int level_pair(const nt_world *w, const nt__contact *c)
+/* Each body's contacts (live, not sensors) as lists of contact indices in w->adj:
+ * body i's are adj[start[i] .. end[i]) (start = w->level_q, end = w->level_q +
+ * body_cap), for the bodies of the contacts only. Made once a step, after the pairs:
+ * the levels walk them, and so does the correction after the move. */
+static void build_adjacency(nt_world *w)
 {
-    if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) return 0;
-    const nt__body *a = &w->bodies[key_a(c->key)];
-    return c->depth > -nt__skin(w, a->p);
-}
-
-static void compute_levels(nt_world *w)
-{
-    w->leveled = 0;
-    nt_vec2 g = w->def.gravity;
-    if ((g.x == 0 && g.y == 0) || w->con_count == 0) return;
-    int32_t *lv = w->level, *start = w->level_q, *end = w->level_q + w->body_cap, *queue = w->scratch_a;
-    int32_t *adj = w->adj, *order = w->corder;
+    int32_t *start = w->level_q, *end = w->level_q + w->body_cap, *adj = w->adj;
     int nc = w->con_count;
-    for (int k = 0; k < nc; k++) {
-        int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
-        lv[ia] = lv[ib] = NT__NO_LEVEL;
-        end[ia] = end[ib] = 0;
-    }
-    /* Roots, and the degrees of touching pairs of moving bodies (in end[]). */
-    int nq = 0;
+    for (int k = 0; k < nc; k++) end[key_a(w->con[k].key)] = end[key_b(w->con[k].key)] = 0;
     for (int k = 0; k < nc; k++) {
         const nt__contact *c = &w->con[k];
-        if (!level_pair(w, c)) continue;
-        int32_t ia = key_a(c->key), ib = key_b(c->key);
-        const nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-        nt_real wa = solver_w(a), wb = solver_w(b);
-        for (int s2 = 0; s2 < 2; s2++) {
-            int32_t i = s2 ? ib : ia;
-            const nt__body *bi = s2 ? b : a;
-            if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
-            int root = (s2 ? wa : wb) <= 0;
-            for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
-            if (root) {
-                lv[i] = 0;
-                queue[nq++] = i;
-            }
-        }
-        if (wa > 0 && wb > 0) end[ia]++, end[ib]++;
+        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        end[key_a(c->key)]++;
+        end[key_b(c->key)]++;
     }
-    if (nq == 0) return;
-    /* Each body's list: start[i] .. end[i] in adj. */
     int sum = 0;
     for (int k = 0; k < nc; k++) {
         int32_t ids[2] = {key_a(w->con[k].key), key_b(w->con[k].key)};
@@ -660,19 +625,71 @@ static void compute_levels(nt_world *w)
     }
     for (int k = 0; k < nc; k++) {
         const nt__contact *c = &w->con[k];
-        if (!level_pair(w, c)) continue;
-        int32_t ia = key_a(c->key), ib = key_b(c->key);
-        if (solver_w(&w->bodies[ia]) <= 0 || solver_w(&w->bodies[ib]) <= 0) continue;
-        adj[end[ia]++] = ib;
-        adj[end[ib]++] = ia;
+        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        adj[end[key_a(c->key)]++] = k;
+        adj[end[key_b(c->key)]++] = k;
     }
-    /* Breadth first from the roots. */
+}
+
+static inline int32_t other_body(const nt__contact *c, int32_t i)
+{
+    int32_t a = key_a(c->key);
+    return a == i ? key_b(c->key) : a;
+}
+
+/* Levels: how many touching contacts each body is from the ground (a tile surface that
+ * holds it against gravity, or a body that does not move), found breadth first over
+ * the contacts, and the contacts ordered by the lower level of their pair. In a stack
+ * or a pile the lower body of a pair is the one nearer the ground: the velocity
+ * solve's last pass (shock_pass) goes up the levels with it not giving way. w->leveled
+ * is 0 without gravity (no ground) and when no body touches the ground; bodies not
+ * connected to the ground by touching contacts get NT__NO_LEVEL. */
+#define NT__NO_LEVEL INT32_MAX
+static inline int touching_pair(const nt_world *w, const nt__contact *c)
+{
+    return c->depth > -nt__skin(w, w->bodies[key_a(c->key)].p) && solver_w(&w->bodies[key_a(c->key)]) > 0 &&
+           solver_w(&w->bodies[key_b(c->key)]) > 0;
+}
+
+static void compute_levels(nt_world *w)
+{
+    w->leveled = 0;
+    nt_vec2 g = w->def.gravity;
+    if ((g.x == 0 && g.y == 0) || w->con_count == 0) return;
+    int32_t *lv = w->level, *start = w->level_q, *end = w->level_q + w->body_cap, *queue = w->scratch_a;
+    int nc = w->con_count;
+    for (int k = 0; k < nc; k++) lv[key_a(w->con[k].key)] = lv[key_b(w->con[k].key)] = NT__NO_LEVEL;
+    /* Roots: moving bodies held against gravity by a tile, or touching one that does
+     * not move. */
+    int nq = 0;
+    for (int k = 0; k < nc; k++) {
+        const nt__contact *c = &w->con[k];
+        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        const nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+        if (!(c->depth > -nt__skin(w, a->p))) continue;
+        nt_real wa = solver_w(a), wb = solver_w(b);
+        for (int s2 = 0; s2 < 2; s2++) {
+            int32_t i = s2 ? ib : ia;
+            const nt__body *bi = s2 ? b : a;
+            if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
+            int root = (s2 ? wa : wb) <= 0;
+            for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
+            if (root) {
+                lv[i] = 0;
+                queue[nq++] = i;
+            }
+        }
+    }
+    if (nq == 0) return;
+    /* Breadth first from the roots, over touching pairs of moving bodies. */
     int32_t top = 0;
     for (int h = 0; h < nq; h++) {
         int32_t i = queue[h], l = lv[i] + 1;
         for (int32_t e = start[i]; e < end[i]; e++) {
-            int32_t j = adj[e];
-            if (lv[j] != NT__NO_LEVEL) continue;
+            const nt__contact *c = &w->con[w->adj[e]];
+            int32_t j = other_body(c, i);
+            if (lv[j] != NT__NO_LEVEL || !touching_pair(w, c)) continue;
             lv[j] = l;
             top = l;
             queue[nq++] = j;
@@ -680,7 +697,7 @@ static void compute_levels(nt_world *w)
     }
     /* The contacts by the lower level of their pair (a counting sort, stable: key
      * order within a level); pairs without a level last. */
-    int32_t *count = start; /* top + 2 buckets: levels 0..top, then none */
+    int32_t *count = queue, *order = w->corder; /* top + 2 buckets: levels 0..top, then none */
     for (int32_t l = 0; l <= top + 1; l++) count[l] = 0;
     for (int k = 0; k < nc; k++) {
         int32_t la = lv[key_a(w->con[k].key)], lb = lv[key_b(w->con[k].key)];
@@ -711,23 +728,100 @@ static inline int held(const nt__body *b, nt_vec2 dir)
     return 0;
 }
 
+/* The bodies a correction moved: their places before it (w->scratch_r) and their
+ * list (w->wake_list), for the tile resolution once the pushes are done. */
+typedef struct moved_set {
+    int32_t *list;
+    nt_real *prev;
+    int n;
+} moved_set;
+
+/* Push bodies ia and ib apart when they overlap deeper than the skin, by inverse mass.
+ * Returns which moved (1: a, 2: b). */
+static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, int by_level)
+{
+    nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+    nt_real wa = solver_w(a), wb = solver_w(b);
+    if (wa + wb <= 0) return 0;
+    nt_mtv m;
+    if (!nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) return 0;
+    if (a->p.x == b->p.x && a->p.y == b->p.y) { /* m.normal moves a out of b: -n */
+        nt_vec2 n;
+        nt__coincident(a, b, ia, ib, &n, &m.depth);
+        m.normal = nt_v2(-n.x, -n.y);
+    }
+    nt_real d = m.depth - skin_at(w, a->p);
+    if (d <= 0) return 0;
+    /* A body held by a tile surface against this push does not give way: the other
+     * one moves the whole distance (tiles are resolved after the pushes). When both
+     * are held, the push is split anyway: the tile resolution slides each along its
+     * surface (a circle sliding down a slope into one resting in a notch would
+     * otherwise creep into it). */
+    int ha = wa > 0 && held(a, m.normal), hb = wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y));
+    if (ha && !hb) wa = 0;
+    else if (hb && !ha) wb = 0;
+    else if (by_level && wa > 0 && wb > 0 && w->level[ia] != w->level[ib]) {
+        if (w->level[ia] < w->level[ib]) wa = 0;
+        else wb = 0;
+    }
+    if (wa + wb <= 0) return 0;
+    nt_real sa = d * wa / (wa + wb), sb = d - sa;
+    int which = 0;
+    for (int s = 0; s < 2; s++) {
+        int32_t i = s ? ib : ia;
+        nt__body *bi = s ? b : a;
+        if ((s ? sb : sa) <= 0) continue;
+        which |= 1 << s;
+        if (!(bi->flags & NT__BF_MOVED)) {
+            bi->flags |= NT__BF_MOVED;
+            ms->prev[2 * i] = bi->p.x;
+            ms->prev[2 * i + 1] = bi->p.y;
+            ms->list[ms->n++] = i;
+        }
+    }
+    /* m.normal moves a out of b. */
+    a->p.x += m.normal.x * sa;
+    a->p.y += m.normal.y * sa;
+    b->p.x -= m.normal.x * sb;
+    b->p.y -= m.normal.y * sb;
+    return which;
+}
+
+/* Pushed bodies must not end inside tiles: resolved once, after the pushes (the tile
+ * resolution costs far more than a pair push). After the move, their grid cells too. */
+static void settle_moved(nt_world *w, moved_set *ms, int after_move)
+{
+    for (int q = 0; q < ms->n; q++) {
+        int32_t i = ms->list[q];
+        nt__body *b = &w->bodies[i];
+        b->flags &= (uint8_t)~NT__BF_MOVED;
+        nt_resolution res;
+        nt_vec2 p0 = nt_v2(ms->prev[2 * i], ms->prev[2 * i + 1]);
+        if (resolve_body(w, b, p0, b->p, &res)) {
+            apply_push(w, b, &res);
+            store_tile_contacts(w, b, &res, 0);
+        } else {
+            b->ntc = 0;
+        }
+        if (after_move && b->gcell >= 0) nt__grid_update(w, i);
+    }
+}
+
 static void correct_positions(nt_world *w)
 {
     int iters = w->def.position_iterations;
     if (iters == 0 || w->con_count == 0) return;
-    int32_t *moved = w->wake_list;
-    nt_real *prev = w->scratch_r;
+    moved_set ms = {w->wake_list, w->scratch_r, 0};
     /* When each body was last pushed (iteration, contact): a contact whose bodies
      * have not been pushed since it was last tested gives the same answer again
      * (it depends on their positions only), so later iterations test only the
      * contacts around pushed bodies. */
     int32_t *push_it = w->scratch_a, *push_k = w->scratch_a + w->body_cap;
     for (int k = 0; k < w->con_count; k++) push_it[key_a(w->con[k].key)] = push_it[key_b(w->con[k].key)] = -1;
-    int nm = 0;
     for (int it = 0; it < iters; it++) {
         int pushed = 0;
         for (int k = 0; k < w->con_count; k++) {
-            nt__contact *c = &w->con[k];
+            const nt__contact *c = &w->con[k];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
             if (it > 0) {
                 /* Untouched since the test at (it - 1, k)? */
@@ -736,65 +830,115 @@ static void correct_positions(nt_world *w)
                 if (!fresh_a && !fresh_b) continue;
             }
             if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-            nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-            nt_real wa = solver_w(a), wb = solver_w(b);
-            if (wa + wb <= 0) continue;
-            nt_mtv m;
-            if (!nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) continue;
-            if (a->p.x == b->p.x && a->p.y == b->p.y) { /* m.normal moves a out of b: -n */
-                nt_vec2 n;
-                nt__coincident(a, b, ia, ib, &n, &m.depth);
-                m.normal = nt_v2(-n.x, -n.y);
-            }
-            nt_real d = m.depth - skin_at(w, a->p);
-            if (d <= 0) continue;
-            /* A body held by a tile surface against this push does not give way: the
-             * other one moves the whole distance (tiles are resolved after the loop).
-             * When both are held, the push is split anyway: the tile resolution after
-             * the loop slides each along its surface (a circle sliding down a slope
-             * into one resting in a notch would otherwise creep into it). */
-            int ha = wa > 0 && held(a, m.normal), hb = wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y));
-            if (ha && !hb) wa = 0;
-            if (hb && !ha) wb = 0;
-            if (wa + wb <= 0) continue;
-            nt_real sa = d * wa / (wa + wb), sb = d - sa;
+            if (!push_pair(w, ia, ib, &ms, 0)) continue;
             pushed = 1;
             push_it[ia] = push_it[ib] = it;
             push_k[ia] = push_k[ib] = k;
-            for (int s = 0; s < 2; s++) {
-                int32_t i = s ? ib : ia;
-                nt__body *bi = s ? b : a;
-                if ((s ? sb : sa) <= 0) continue;
-                if (!(bi->flags & NT__BF_MOVED)) {
-                    bi->flags |= NT__BF_MOVED;
-                    prev[2 * i] = bi->p.x;
-                    prev[2 * i + 1] = bi->p.y;
-                    moved[nm++] = i;
-                }
-            }
-            /* m.normal moves a out of b. */
-            a->p.x += m.normal.x * sa;
-            a->p.y += m.normal.y * sa;
-            b->p.x -= m.normal.x * sb;
-            b->p.y -= m.normal.y * sb;
         }
         if (!pushed) break;
     }
-    /* Pushed bodies must not end inside tiles: resolved once, after the iterations
-     * (the tile resolution costs far more than a pair push). */
-    for (int q = 0; q < nm; q++) {
-        int32_t i = moved[q];
+    settle_moved(w, &ms, 0);
+}
+
+/* After the move, the overlaps the velocity solve could not see: a body that met a
+ * tile in the move turned back into one that kept coming (the lower one of a falling
+ * pair bounces off a floor), a body the solve kicked farther than its pairs reach, a
+ * fast body whose contacts may lie beyond the cells searched (NT__MF_KICKED marks
+ * those). Their pairs are pushed apart, those of the bodies pushed then in turn, each
+ * body's at most position_iterations times; the pairs that were no contact of this
+ * step come from the broad phase around the marked bodies. */
+typedef struct kick_ctx {
+    int32_t i, n, found[32];
+} kick_ctx;
+
+static bool kick_visit(const nt_world *w, int32_t j, void *ctx)
+{
+    kick_ctx *k = (kick_ctx *)ctx;
+    if (j != k->i && k->n < 32 && (w->bodies[j].flags & NT__BF_ALIVE)) k->found[k->n++] = j;
+    return true;
+}
+
+/* Sensors, one-way bodies and characters keep to the contacts' own rules. */
+static inline int plain_pair_body(const nt_world *w, int32_t i)
+{
+    const nt__body *b = &w->bodies[i];
+    return !(b->flags & NT__BF_SENSOR) && !b->one_way && !(w->char_count && w->cold[i].character >= 0);
+}
+
+static void correct_after_move(nt_world *w)
+{
+    int iters = w->def.position_iterations;
+    if (iters == 0) {
+        for (int q = 0; q < w->awake_count; q++) w->bodies[w->awake[q]].motion &= (uint8_t)~NT__MF_KICKED;
+        return;
+    }
+    moved_set ms = {w->wake_list, w->scratch_r, 0};
+    int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap, *queue = w->level_q + 2 * w->body_cap;
+    int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
+    /* A body is in the contacts' lists when it is in a contact; mark those first. */
+    for (int q = 0; q < w->awake_count; q++) {
+        int32_t i = w->awake[q];
+        visits[i] = 0;
+        inq[i] = -1; /* not in a contact */
+    }
+    for (int k = 0; k < w->con_count; k++) inq[key_a(w->con[k].key)] = inq[key_b(w->con[k].key)] = 0;
+    int cap = w->body_cap, head = 0, tail = 0, count = 0;
+    /* The flagged bodies: pairs beyond the contacts from the broad phase first. */
+    for (int q = 0; q < w->awake_count; q++) {
+        int32_t i = w->awake[q];
         nt__body *b = &w->bodies[i];
-        b->flags &= (uint8_t)~NT__BF_MOVED;
-        nt_resolution res;
-        nt_vec2 p0 = nt_v2(prev[2 * i], prev[2 * i + 1]);
-        if (resolve_body(w, b, p0, b->p, &res)) {
-            apply_push(w, b, &res);
-            store_tile_contacts(w, b, &res, 0);
-        } else {
-            b->ntc = 0;
+        if (!(b->motion & NT__MF_KICKED)) continue;
+        b->motion &= (uint8_t)~NT__MF_KICKED;
+        if (inq[i] == 0) {
+            inq[i] = 1;
+            queue[tail] = i;
+            tail = (tail + 1) % cap;
+            count++;
+        }
+        if (!nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
+        kick_ctx kc;
+        kc.i = i;
+        kc.n = 0;
+        nt__grid_visit(w, nt__sub(b->p, b->half), nt__add(b->p, b->half), kick_visit, &kc);
+        for (int f = 0; f < kc.n; f++) {
+            int32_t j = kc.found[f];
+            const nt__body *o = &w->bodies[j];
+            if (!nt__body_in_grid(o) || !plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
+            if (nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x || nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
+                continue;
+            int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, 0);
+            int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
+            if (pj >= 0 && inq[pj] == 0) {
+                inq[pj] = 1;
+                queue[tail] = pj;
+                tail = (tail + 1) % cap;
+                count++;
+            }
         }
     }
+    /* Then the contacts of the queued bodies, until none is pushed or each has had
+     * its turns. */
+    while (count > 0) {
+        int32_t i = queue[head];
+        head = (head + 1) % cap;
+        count--;
+        inq[i] = 0;
+        if (visits[i]++ >= iters) continue;
+        for (int32_t e = start[i]; e < end[i]; e++) {
+            const nt__contact *c = &w->con[w->adj[e]];
+            int32_t ia = key_a(c->key), ib = key_b(c->key);
+            int which = push_pair(w, ia, ib, &ms, 0);
+            for (int s = 0; s < 2; s++) {
+                int32_t j = s ? ib : ia;
+                if (!(which & (1 << s)) || inq[j] != 0 || visits[j] >= iters) continue;
+                inq[j] = 1;
+                queue[tail] = j;
+                tail = (tail + 1) % cap;
+                count++;
+            }
+        }
+    }
+    settle_moved(w, &ms, 1);
 }
 
 /* ---------------------------------------------------------------- 3. velocity */
@@ -939,6 +1083,17 @@ static void shock_pass(nt_world *w)
     }
 }
 
+/* Whether the solve's answer v1 (the velocity was v0) sends a body farther along an
+ * axis than its pairs were found for (the pair search reaches each body's own travel
+ * plus the base margin): a body kicked by others may then meet one that is no contact
+ * of this step (correct_positions after the move looks for those). */
+static inline int kicked_out(const nt_world *w, nt_vec2 v0, nt_vec2 v1, nt_real dt)
+{
+    nt_real m = w->pair_margin * R(0.5);
+    return (nt__max(v1.x, 0) - nt__max(v0.x, 0)) * dt > m || (nt__max(-v1.x, 0) - nt__max(-v0.x, 0)) * dt > m ||
+           (nt__max(v1.y, 0) - nt__max(v0.y, 0)) * dt > m || (nt__max(-v1.y, 0) - nt__max(-v0.y, 0)) * dt > m;
+}
+
 static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 {
     nt_friction_model model = w->def.friction_model;
@@ -1061,6 +1216,10 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             if (index[i] != q) continue; /* written back already */
             index[i] = -1;
             toi_shift(w, i, sv[q].v, sv[q].w);
+            if (kicked_out(w, w->bodies[i].v, sv[q].v, dt)) {
+                w->bodies[i].motion |= NT__MF_KICKED;
+                w->kicked_count++;
+            }
             w->bodies[i].v = sv[q].v;
         }
     }
@@ -1126,6 +1285,7 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
         return 0;
     b->p = q;
     b->v = nt__add(vr, nt__scale(ga, left));
+    b->motion |= NT__MF_MET;
     if (-a > hit->speed) {
         hit->speed = -a;
         hit->n = n;
@@ -1139,6 +1299,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
 {
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
+    b->motion &= (uint8_t)~NT__MF_MET;
     /* The time-of-impact shift (toi_shift), swept with the step's own travel. */
     int shifted = (b->motion & NT__MF_SHIFT) != 0;
     nt_vec2 shift = nt_v2(0, 0);
@@ -1261,6 +1422,10 @@ static void move_bodies(nt_world *w, nt_real dt)
             moves++;
         } else {
             moves += move_dynamic(w, i, dt, !limited);
+            if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED) && !(b->motion & NT__MF_KICKED)) {
+                b->motion |= NT__MF_KICKED;
+                w->kicked_count++;
+            }
         }
         if (b->gcell >= 0) nt__grid_update(w, i);
     }
@@ -1415,16 +1580,22 @@ nt_status nt__step(nt_world *w, nt_real dt)
     double t[7] = {0};
     if (w->profiling) t[0] = clock_ms();
     w->pairs_ms = 0;
+    w->kicked_count = 0;
     nt_status s = collide(w, dt);
     if (s != NT_OK) return s;
     if (w->profiling) t[2] = clock_ms();
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
+    if (w->con_count) build_adjacency(w);
     compute_levels(w);
     correct_positions(w);
     if (w->profiling) t[3] = clock_ms();
     solve_velocities(w, dt, ratio);
     if (w->profiling) t[4] = clock_ms();
     move_bodies(w, dt);
+    /* A body that met a tile in the move, after the velocity solve, may have turned
+     * back into a body that kept coming (the lower one of a falling pair bounces off
+     * a floor): the pairs around such bodies are corrected once more. */
+    if (w->kicked_count) correct_after_move(w);
     if (w->profiling) t[5] = clock_ms();
     update_sleep(w, dt);
     if (w->profiling) {

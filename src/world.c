@@ -110,7 +110,7 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__svel *sv = (nt__svel *)nt__alloc(n * sizeof *sv);
     nt__stile *st = (nt__stile *)nt__alloc(n * sizeof *st);
     int32_t *lv = (int32_t *)nt__alloc(n * sizeof *lv);
-    int32_t *lq = (int32_t *)nt__alloc(2 * n * sizeof *lq);
+    int32_t *lq = (int32_t *)nt__alloc(3 * n * sizeof *lq);
     if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq) {
         nt__free(lv);
         nt__free(lq);

@@ -256,6 +256,69 @@ static void test_tall_column_default_iterations(void **state)
     }
 }
 
+/* ---------------------------------------------------------------- after the move */
+
+/* What the velocity solve cannot see, caught after the move. Each case ends every step
+ * with its bodies apart to within the skin (2.5e-4 cell) plus what gravity drives in
+ * over a step (g dt^2 = 0.0028 cell), rounded up to 0.005 cell:
+ * - a fast body whose contact is two cells away, where the pair search (neighbouring
+ *   cells) does not look: a box falls 0.95 cell a step onto a box resting on the floor
+ *   with its centre two cells below (without the check: 0.1 cell deep);
+ * - the lower body of a falling pair meets a bouncy floor in the move and turns back
+ *   into the upper one, which kept falling (without the check: 0.2 cell deep). */
+static void test_overlaps_after_the_move(void **state)
+{
+    (void)state;
+    const double tol = 0.005;
+    for (int shape = 0; shape < 2; shape++) {
+        const int W = 8, H = 20;
+        nt_world *w = make_world(W, H, NT_FRICTION_COULOMB, R(0.5), false);
+        floor_and_walls(w, W, H);
+        nt_shape sh = shape ? nt_shape_circle(R(0.4)) : nt_shape_aabb(R(0.4), R(0.4));
+        nt_body_id ids[2];
+        ids[0] = add(w, sh, 3.5, H - 1 - 0.4, 1, R(0.5));
+        ids[1] = add(w, sh, 3.5, H - 1 - 0.4 - 1.65, 1, R(0.5)); /* cells 18 and 16: gap 0.85 */
+        nt_body_set_velocity(w, ids[1], nt_v2(0, R(0.95 * 60)));
+        double worst = 0;
+        for (int s = 0; s < 30; s++) {
+            assert_int_equal(nt_world_step(w, DT), NT_OK);
+            worst = fmax(worst, max_pair_overlap(w, ids, 2));
+        }
+        printf("  fast onto a body two cells away (%s): worst pair overlap %.3g cell\n", shape ? "circles" : "boxes", worst);
+        assert_true(worst < tol);
+        nt_world_destroy(w);
+    }
+    for (int shape = 0; shape < 2; shape++) {
+        const int W = 8, H = 20;
+        nt_world_def d = nt_default_world_def();
+        d.map.width = W;
+        d.map.height = H;
+        d.map.cell_size = 1;
+        d.gravity = nt_v2(0, 10);
+        d.tile_material.bounce = R(0.8);
+        d.restitution_threshold = R(0.5);
+        d.enable_sleep = false;
+        nt_world *w = NULL;
+        assert_int_equal(nt_world_create(&d, &w), NT_OK);
+        floor_and_walls(w, W, H);
+        nt_shape sh = shape ? nt_shape_circle(R(0.4)) : nt_shape_aabb(R(0.4), R(0.4));
+        nt_body_id ids[2];
+        double y0 = H - 1 - 0.4 - 0.3; /* the lower one 0.3 cell above the floor */
+        for (int i = 0; i < 2; i++) {
+            ids[i] = add(w, sh, 3.5, y0 - 0.8 * i, 1, R(0.5));
+            nt_body_set_velocity(w, ids[i], nt_v2(0, R(30))); /* 0.5 cell a step, together */
+        }
+        double worst = 0;
+        for (int s = 0; s < 60; s++) {
+            assert_int_equal(nt_world_step(w, DT), NT_OK);
+            worst = fmax(worst, max_pair_overlap(w, ids, 2));
+        }
+        printf("  falling pair onto a bouncy floor (%s): worst pair overlap %.3g cell\n", shape ? "circles" : "boxes", worst);
+        assert_true(worst < tol);
+        nt_world_destroy(w);
+    }
+}
+
 /* ---------------------------------------------------------------- held by tiles */
 
 /* A small circle on a frictionless 45-degree slope, pressed by gravity into a large
@@ -577,6 +640,7 @@ int main(void)
         cmocka_unit_test(test_pile_of_500),
         cmocka_unit_test(test_falling_column),
         cmocka_unit_test(test_tall_column_default_iterations),
+        cmocka_unit_test(test_overlaps_after_the_move),
         cmocka_unit_test(test_pair_held_by_tiles),
         cmocka_unit_test(test_sleep_and_wake_on_touch),
         cmocka_unit_test(test_fall_on_sleeping_box_sweep),
