@@ -392,10 +392,10 @@ struct nt_world {
     nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
     int32_t *level;            /* per body: touching contacts from the ground, this step (response.c) */
-    int32_t *level_q;          /* 3 per body: contact list starts and ends, a queue (response.c) */
-    int32_t *adj, *corder;     /* per contact: adjacency (2 each), contacts by level */
-    int adj_cap, corder_cap;
-    int leveled;               /* level[] holds this step's levels */
+    int32_t *level_q;          /* 3 per body: contact list starts and ends, bodies by level (response.c) */
+    int32_t *adj;              /* 2 per contact: the bodies' contact lists */
+    int adj_cap;
+    int leveled, level_count;  /* level[] holds this step's levels; bodies with one */
     int kicked_count;          /* bodies marked NT__MF_KICKED this step */
     int wake_count;
     nt_world_counters counters;
@@ -491,6 +491,9 @@ void nt__grid_update(nt_world *w, int32_t i);   /* after the body moved or chang
 nt_status nt__grid_find_pairs(nt_world *w, nt_real dt); /* fills con_new; may grow it */
 typedef bool nt__visit_fn(const nt_world *w, int32_t i, void *ctx);
 void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx);
+/* The bodies of the grid whose boxes overlap body i's (i left out), at most cap of
+ * them in out; returns how many. */
+int nt__grid_overlapping(const nt_world *w, int32_t i, int32_t *out, int cap);
 /* A level's list heads (2 per cell: ACTIVE, REST), its size in cells and its cell width. */
 void nt__grid_level_view(const nt_world *w, int level, const int32_t **heads, int *gw, int *gh, nt_real *size);
 int nt__grid_level_used(const nt_world *w, int level); /* any body in it (level 0: grid enabled) */

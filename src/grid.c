@@ -709,6 +709,51 @@ nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
     return NT_OK;
 }
 
+int nt__grid_overlapping(const nt_world *w, int32_t i, int32_t *out, int cap)
+{
+    const nt__body *b = &w->bodies[i];
+    int n = 0;
+    if (!w->heads) return 0;
+    /* Level 0 by its cells and bitmap; the coarser levels, when in use, by the visit. */
+    nt_real m = R(0.5) * w->cell;
+    int r[4];
+    level_view v = view_of(w, 0);
+    view_range(&v, nt_v2(b->p.x - b->half.x - m, b->p.y - b->half.y - m), nt_v2(b->p.x + b->half.x + m, b->p.y + b->half.y + m), r);
+    for (int y = r[1]; y <= r[3]; y++)
+        for (int x = r[0]; x <= r[2]; x++)
+            for (int list = 0; list < 2; list++) {
+                int32_t head = 2 * (y * v.w + x) + list;
+                if (!occupied(w, head)) continue;
+                for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext) {
+                    const nt__body *o = &w->bodies[j];
+                    if (j == i || nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x ||
+                        nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
+                        continue;
+                    if (n < cap) out[n++] = j;
+                }
+            }
+    if (w->large_count) {
+        for (int lv = 1; lv < NT__LEVELS; lv++) {
+            if (!w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1])) continue;
+            level_view lvv = view_of(w, lv);
+            nt_real ml = lvv.size * R(0.5);
+            view_range(&lvv, nt_v2(b->p.x - b->half.x - ml, b->p.y - b->half.y - ml),
+                       nt_v2(b->p.x + b->half.x + ml, b->p.y + b->half.y + ml), r);
+            for (int y = r[1]; y <= r[3]; y++)
+                for (int x = r[0]; x <= r[2]; x++)
+                    for (int list = 0; list < 2; list++)
+                        for (int32_t j = lvv.heads[2 * (y * lvv.w + x) + list]; j >= 0; j = w->bodies[j].gnext) {
+                            const nt__body *o = &w->bodies[j];
+                            if (j == i || nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x ||
+                                nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
+                                continue;
+                            if (n < cap) out[n++] = j;
+                        }
+        }
+    }
+    return n;
+}
+
 void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn, void *ctx)
 {
     if (!w->heads) return;

@@ -249,7 +249,6 @@ static nt_status collide(nt_world *w, nt_real dt)
     GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
     GROW(w->sort_keys, 0, w->sort_cap, 4 * nn);
     GROW(w->adj, 0, w->adj_cap, 2 * need);
-    GROW(w->corder, 0, w->corder_cap, need);
 
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
@@ -592,20 +591,61 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
 
 /* ---------------------------------------------------------------- levels */
 
-/* Each body's contacts (live, not sensors) as lists of contact indices in w->adj:
- * body i's are adj[start[i] .. end[i]) (start = w->level_q, end = w->level_q +
- * body_cap), for the bodies of the contacts only. Made once a step, after the pairs:
- * the levels walk them, and so does the correction after the move. */
-static void build_adjacency(nt_world *w)
+static inline int32_t other_body(const nt__contact *c, int32_t i)
+{
+    int32_t a = key_a(c->key);
+    return a == i ? key_b(c->key) : a;
+}
+
+/* Each body's contacts (live, not sensors) as lists in w->adj: body i's are
+ * adj[start[i] .. end[i]) (start = w->level_q, end = w->level_q + body_cap), for the
+ * bodies of the contacts only; an entry is the contact's index k, or -1 - k when the
+ * pair is not two moving bodies within the skin of each other. Made once a step,
+ * after the pairs: the levels walk them, and so does the correction after the move.
+ *
+ * Levels, on the way (with gravity): how many touching contacts each body is from the
+ * ground (a tile surface that holds it against gravity, or a body that does not
+ * move), breadth first; the bodies in that order go to w->level_q + 2 body_cap. In a
+ * stack or a pile the lower body of a pair is the one nearer the ground: the velocity
+ * solve's last pass (shock_pass) goes up the levels with it not giving way.
+ * w->leveled is 0 without gravity (no ground) and when no body touches the ground;
+ * bodies not connected to the ground by touching contacts get NT__NO_LEVEL. */
+#define NT__NO_LEVEL INT32_MAX
+static void build_contact_lists(nt_world *w)
 {
     int32_t *start = w->level_q, *end = w->level_q + w->body_cap, *adj = w->adj;
-    int nc = w->con_count;
-    for (int k = 0; k < nc; k++) end[key_a(w->con[k].key)] = end[key_b(w->con[k].key)] = 0;
+    int32_t *lv = w->level, *order = w->level_q + 2 * w->body_cap;
+    nt_vec2 g = w->def.gravity;
+    int nc = w->con_count, leveled = g.x != 0 || g.y != 0, nq = 0;
+    w->leveled = 0;
+    w->level_count = 0;
     for (int k = 0; k < nc; k++) {
-        const nt__contact *c = &w->con[k];
+        int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
+        end[ia] = end[ib] = 0;
+        lv[ia] = lv[ib] = NT__NO_LEVEL;
+    }
+    /* Degrees, and the roots of the levels. */
+    for (int k = 0; k < nc; k++) {
+        nt__contact *c = &w->con[k];
         if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-        end[key_a(c->key)]++;
-        end[key_b(c->key)]++;
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        end[ia]++;
+        end[ib]++;
+        if (!leveled) continue;
+        const nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
+        if (!(c->depth > -nt__skin(w, a->p))) continue;
+        nt_real wa = solver_w(a), wb = solver_w(b);
+        for (int s2 = 0; s2 < 2; s2++) {
+            int32_t i = s2 ? ib : ia;
+            const nt__body *bi = s2 ? b : a;
+            if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
+            int root = (s2 ? wa : wb) <= 0;
+            for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
+            if (root) {
+                lv[i] = 0;
+                order[nq++] = i;
+            }
+        }
     }
     int sum = 0;
     for (int k = 0; k < nc; k++) {
@@ -626,96 +666,27 @@ static void build_adjacency(nt_world *w)
     for (int k = 0; k < nc; k++) {
         const nt__contact *c = &w->con[k];
         if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-        adj[end[key_a(c->key)]++] = k;
-        adj[end[key_b(c->key)]++] = k;
-    }
-}
-
-static inline int32_t other_body(const nt__contact *c, int32_t i)
-{
-    int32_t a = key_a(c->key);
-    return a == i ? key_b(c->key) : a;
-}
-
-/* Levels: how many touching contacts each body is from the ground (a tile surface that
- * holds it against gravity, or a body that does not move), found breadth first over
- * the contacts, and the contacts ordered by the lower level of their pair. In a stack
- * or a pile the lower body of a pair is the one nearer the ground: the velocity
- * solve's last pass (shock_pass) goes up the levels with it not giving way. w->leveled
- * is 0 without gravity (no ground) and when no body touches the ground; bodies not
- * connected to the ground by touching contacts get NT__NO_LEVEL. */
-#define NT__NO_LEVEL INT32_MAX
-static inline int touching_pair(const nt_world *w, const nt__contact *c)
-{
-    return c->depth > -nt__skin(w, w->bodies[key_a(c->key)].p) && solver_w(&w->bodies[key_a(c->key)]) > 0 &&
-           solver_w(&w->bodies[key_b(c->key)]) > 0;
-}
-
-static void compute_levels(nt_world *w)
-{
-    w->leveled = 0;
-    nt_vec2 g = w->def.gravity;
-    if ((g.x == 0 && g.y == 0) || w->con_count == 0) return;
-    int32_t *lv = w->level, *start = w->level_q, *end = w->level_q + w->body_cap, *queue = w->scratch_a;
-    int nc = w->con_count;
-    for (int k = 0; k < nc; k++) lv[key_a(w->con[k].key)] = lv[key_b(w->con[k].key)] = NT__NO_LEVEL;
-    /* Roots: moving bodies held against gravity by a tile, or touching one that does
-     * not move. */
-    int nq = 0;
-    for (int k = 0; k < nc; k++) {
-        const nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
         int32_t ia = key_a(c->key), ib = key_b(c->key);
-        const nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-        if (!(c->depth > -nt__skin(w, a->p))) continue;
-        nt_real wa = solver_w(a), wb = solver_w(b);
-        for (int s2 = 0; s2 < 2; s2++) {
-            int32_t i = s2 ? ib : ia;
-            const nt__body *bi = s2 ? b : a;
-            if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
-            int root = (s2 ? wa : wb) <= 0;
-            for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
-            if (root) {
-                lv[i] = 0;
-                queue[nq++] = i;
-            }
-        }
+        int held = leveled && c->depth > -nt__skin(w, w->bodies[ia].p) && solver_w(&w->bodies[ia]) > 0 &&
+                   solver_w(&w->bodies[ib]) > 0;
+        int32_t e = held ? k : -1 - k;
+        adj[end[ia]++] = e;
+        adj[end[ib]++] = e;
     }
     if (nq == 0) return;
     /* Breadth first from the roots, over touching pairs of moving bodies. */
-    int32_t top = 0;
     for (int h = 0; h < nq; h++) {
-        int32_t i = queue[h], l = lv[i] + 1;
+        int32_t i = order[h], l = lv[i] + 1;
         for (int32_t e = start[i]; e < end[i]; e++) {
-            const nt__contact *c = &w->con[w->adj[e]];
-            int32_t j = other_body(c, i);
-            if (lv[j] != NT__NO_LEVEL || !touching_pair(w, c)) continue;
+            if (adj[e] < 0) continue;
+            int32_t j = other_body(&w->con[adj[e]], i);
+            if (lv[j] != NT__NO_LEVEL) continue;
             lv[j] = l;
-            top = l;
-            queue[nq++] = j;
+            order[nq++] = j;
         }
     }
-    /* The contacts by the lower level of their pair (a counting sort, stable: key
-     * order within a level); pairs without a level last. */
-    int32_t *count = queue, *order = w->corder; /* top + 2 buckets: levels 0..top, then none */
-    for (int32_t l = 0; l <= top + 1; l++) count[l] = 0;
-    for (int k = 0; k < nc; k++) {
-        int32_t la = lv[key_a(w->con[k].key)], lb = lv[key_b(w->con[k].key)];
-        int32_t l = la < lb ? la : lb;
-        count[l == NT__NO_LEVEL ? top + 1 : l]++;
-    }
-    int32_t at = 0;
-    for (int32_t l = 0; l <= top + 1; l++) {
-        int32_t n = count[l];
-        count[l] = at;
-        at += n;
-    }
-    for (int k = 0; k < nc; k++) {
-        int32_t la = lv[key_a(w->con[k].key)], lb = lv[key_b(w->con[k].key)];
-        int32_t l = la < lb ? la : lb;
-        order[count[l == NT__NO_LEVEL ? top + 1 : l]++] = k;
-    }
     w->leveled = 1;
+    w->level_count = nq;
 }
 
 /* ---------------------------------------------------------------- 2. correct */
@@ -847,17 +818,6 @@ static void correct_positions(nt_world *w)
  * those). Their pairs are pushed apart, those of the bodies pushed then in turn, each
  * body's at most position_iterations times; the pairs that were no contact of this
  * step come from the broad phase around the marked bodies. */
-typedef struct kick_ctx {
-    int32_t i, n, found[32];
-} kick_ctx;
-
-static bool kick_visit(const nt_world *w, int32_t j, void *ctx)
-{
-    kick_ctx *k = (kick_ctx *)ctx;
-    if (j != k->i && k->n < 32 && (w->bodies[j].flags & NT__BF_ALIVE)) k->found[k->n++] = j;
-    return true;
-}
-
 /* Sensors, one-way bodies and characters keep to the contacts' own rules. */
 static inline int plain_pair_body(const nt_world *w, int32_t i)
 {
@@ -869,11 +829,11 @@ static void correct_after_move(nt_world *w)
 {
     int iters = w->def.position_iterations;
     if (iters == 0) {
-        for (int q = 0; q < w->awake_count; q++) w->bodies[w->awake[q]].motion &= (uint8_t)~NT__MF_KICKED;
+        for (int q = 0; q < w->awake_count; q++) w->bodies[w->awake[q]].motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET);
         return;
     }
     moved_set ms = {w->wake_list, w->scratch_r, 0};
-    int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap, *queue = w->level_q + 2 * w->body_cap;
+    int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap, *queue = w->level; /* levels: used */
     int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
     /* A body is in the contacts' lists when it is in a contact; mark those first. */
     for (int q = 0; q < w->awake_count; q++) {
@@ -887,25 +847,23 @@ static void correct_after_move(nt_world *w)
     for (int q = 0; q < w->awake_count; q++) {
         int32_t i = w->awake[q];
         nt__body *b = &w->bodies[i];
-        if (!(b->motion & NT__MF_KICKED)) continue;
-        b->motion &= (uint8_t)~NT__MF_KICKED;
+        if (!(b->motion & (NT__MF_KICKED | NT__MF_MET))) continue;
+        int kicked = (b->motion & NT__MF_KICKED) != 0;
+        b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET);
         if (inq[i] == 0) {
             inq[i] = 1;
             queue[tail] = i;
             tail = (tail + 1) % cap;
             count++;
         }
-        if (!nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
-        kick_ctx kc;
-        kc.i = i;
-        kc.n = 0;
-        nt__grid_visit(w, nt__sub(b->p, b->half), nt__add(b->p, b->half), kick_visit, &kc);
-        for (int f = 0; f < kc.n; f++) {
-            int32_t j = kc.found[f];
+        /* One that met a tile has its pairs among the contacts; the others may not. */
+        if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
+        int32_t found[32];
+        int nf = nt__grid_overlapping(w, i, found, 32);
+        for (int f = 0; f < nf; f++) {
+            int32_t j = found[f];
             const nt__body *o = &w->bodies[j];
-            if (!nt__body_in_grid(o) || !plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
-            if (nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x || nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
-                continue;
+            if (!plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
             int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, 0);
             int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
             if (pj >= 0 && inq[pj] == 0) {
@@ -925,7 +883,7 @@ static void correct_after_move(nt_world *w)
         inq[i] = 0;
         if (visits[i]++ >= iters) continue;
         for (int32_t e = start[i]; e < end[i]; e++) {
-            const nt__contact *c = &w->con[w->adj[e]];
+            const nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
             int which = push_pair(w, ia, ib, &ms, 0);
             for (int s = 0; s < 2; s++) {
@@ -1063,23 +1021,41 @@ static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
 /* After the iterations, which leave a tall stack still closing a little at every
  * level: one pass up the levels in which the body nearer the ground does not give
  * way (shock propagation), so that no pair ends approaching faster than its target. */
+static inline void shock_pair(nt__svel *sv, const nt__contact *c, int a_lower)
+{
+    nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
+    nt_real vn = nt__dot(nt__sub(b->v, a->v), c->n);
+    if (!(vn < c->bias)) return;
+    if (a_lower) {
+        if (b->w > 0) b->v = nt__add(b->v, nt__scale(c->n, c->bias - vn));
+    } else {
+        if (a->w > 0) a->v = nt__sub(a->v, nt__scale(c->n, c->bias - vn));
+    }
+}
+
 static void shock_pass(nt_world *w)
 {
     nt__svel *sv = w->svel;
-    for (int q = 0; q < w->con_count; q++) {
-        nt__contact *c = &w->con[w->corder[q]];
-        if (c->meff <= 0) continue;
-        int32_t la = w->level[key_a(c->key)], lb = w->level[key_b(c->key)];
-        if (la == lb) continue;
-        nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
-        nt_vec2 n = c->n;
-        nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
-        if (!(vn < c->bias)) continue;
-        if (la < lb) {
-            if (b->w > 0) b->v = nt__add(b->v, nt__scale(n, c->bias - vn));
-        } else {
-            if (a->w > 0) a->v = nt__sub(a->v, nt__scale(n, c->bias - vn));
+    const int32_t *lv = w->level, *start = w->level_q, *end = w->level_q + w->body_cap;
+    const int32_t *order = w->level_q + 2 * w->body_cap;
+    /* The bodies in level order, each against the partners below it. */
+    for (int h = 0; h < w->level_count; h++) {
+        int32_t i = order[h];
+        for (int32_t e = start[i]; e < end[i]; e++) {
+            const nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
+            int32_t j = other_body(c, i);
+            if (c->meff <= 0 || !(lv[j] < lv[i])) continue;
+            shock_pair(sv, c, key_a(c->key) == j);
         }
+    }
+    /* Then the bodies with no level against those with one (a body falling onto a
+     * pile: its speculative contact). */
+    for (int k = 0; k < w->con_count; k++) {
+        const nt__contact *c = &w->con[k];
+        if (c->meff <= 0) continue;
+        int32_t la = lv[key_a(c->key)], lb = lv[key_b(c->key)];
+        if ((la == NT__NO_LEVEL) == (lb == NT__NO_LEVEL)) continue;
+        shock_pair(sv, c, la < lb);
     }
 }
 
@@ -1422,10 +1398,7 @@ static void move_bodies(nt_world *w, nt_real dt)
             moves++;
         } else {
             moves += move_dynamic(w, i, dt, !limited);
-            if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED) && !(b->motion & NT__MF_KICKED)) {
-                b->motion |= NT__MF_KICKED;
-                w->kicked_count++;
-            }
+            if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
         }
         if (b->gcell >= 0) nt__grid_update(w, i);
     }
@@ -1585,8 +1558,9 @@ nt_status nt__step(nt_world *w, nt_real dt)
     if (s != NT_OK) return s;
     if (w->profiling) t[2] = clock_ms();
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
-    if (w->con_count) build_adjacency(w);
-    compute_levels(w);
+    w->leveled = 0;
+    w->level_count = 0;
+    if (w->con_count) build_contact_lists(w);
     correct_positions(w);
     if (w->profiling) t[3] = clock_ms();
     solve_velocities(w, dt, ratio);

@@ -208,7 +208,6 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->level);
     nt__free(w->level_q);
     nt__free(w->adj);
-    nt__free(w->corder);
     nt__free(w->heads);
     nt__free(w->occupied);
     nt__free(w->rest_near);

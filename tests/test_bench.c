@@ -183,11 +183,13 @@ static void test_body_overlap(void **state)
 
 /* The percentile of the steps' deepest overlaps and the deep pair-steps: 200 steps, 197
  * of them with an overlap of 0.1 cell, 3 of 0.5 cell; p99 (nearest rank: the 198th of
- * 200) is 0.5, and 0.1 once only 2 steps are deep; each deep step is one deep pair. */
+ * 200) is 0.5, and 0.1 once only 2 steps are deep; each deep step is one deep pair.
+ * The deep steps are steps 8, 58 and 108 (dt 1/40): after the first second (step 40)
+ * the worst (settled) is 0.5 while step 58 is deep, 0.1 once only step 8 is. */
 static void test_overlap_percentile(void **state)
 {
     (void)state;
-    for (int ndeep = 3; ndeep >= 2; ndeep--) {
+    for (int ndeep = 3; ndeep >= 1; ndeep--) {
         scene s = small_scene(8, 8, 2);
         s.bodies[0] = box_body(6, 50, 50);
         s.bodies[1] = box_body(6, 62, 50);
@@ -201,6 +203,7 @@ static void test_overlap_percentile(void **state)
         metrics m = metrics_get(t);
         assert_float_equal(m.overlap, 0.5, 1e-6);
         assert_float_equal(m.overlap_p99, ndeep == 3 ? 0.5 : 0.1, 1e-6);
+        assert_float_equal(m.settled, ndeep >= 2 ? 0.5 : 0.1, 1e-6);
         assert_int_equal(m.deep_pairs, ndeep);
         metrics_end(t);
         scene_free(&s);
