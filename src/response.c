@@ -1086,6 +1086,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
     /* Body contacts. Restitution targets and hit speeds come from the velocities
      * before any contact impulse (warm start included) is applied. */
     int any = 0;
+    nt_real glen = nt__sqrt(w->def.gravity.x * w->def.gravity.x + w->def.gravity.y * w->def.gravity.y);
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         c->meff = 0;
@@ -1111,8 +1112,18 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
          * the next step's warm start (which would push the separating bodies apart
          * again: energy from nothing in a gas of bouncing bodies). */
         c->flags &= ~(uint32_t)NT__CF_BOUNCED;
-        if (hits && vn0 < -w->def.restitution_threshold) {
-            c->bias = nt__max(c->bias, -c->bounce * vn0);
+        /* A touching pair that held last step (its impulse carried over) is resting: of
+         * what it closes at, up to what gravity adds in this step is its weight, not an
+         * impact, however long the step (else a box resting on another hops once g dt
+         * passes the restitution threshold). */
+        nt_real vimp = vn0;
+        if (touch && c->ln > 0) {
+            nt_real gs = nt__max(a->type == NT_BODY_DYNAMIC ? nt__fabs(a->gravity_scale) : 0,
+                                 b->type == NT_BODY_DYNAMIC ? nt__fabs(b->gravity_scale) : 0);
+            vimp = nt__min(vn0 + gs * glen * dt, 0);
+        }
+        if (hits && vimp < -w->def.restitution_threshold) {
+            c->bias = nt__max(c->bias, -c->bounce * vimp);
             if (c->bounce > 0) c->flags |= NT__CF_BOUNCED;
         }
         nt_real toi = hits && !touch && vn0 < -w->def.restitution_threshold && c->bounce == 0 ? c->depth / vn0 : -1;

@@ -550,6 +550,50 @@ static void test_no_tunnelling(void **state)
     assert_true(shots > 33 * 3 * 2 * 3 * 3);
 }
 
+/* A resting contact does not bounce because the step got longer (issue 21): a box
+ * resting on a static box, and a box resting on a box on a FULL floor, both of bounce
+ * 0.5, restitution threshold 0.5 units/s, gravity 10: after 120 steps of 1/60 s one
+ * step of 1/10 s (g dt = 1, twice the threshold) and more of 1/60 s. The top box must
+ * stay where it rests (within 0.01 cell, moving up at most 0.05 cell/s): it once hopped
+ * at e g dt = 0.5 units/s. */
+static void test_longer_step_no_hop(void **state)
+{
+    (void)state;
+    for (int dynamic_base = 0; dynamic_base < 2; dynamic_base++) {
+        nt_world_def wd = nt_default_world_def();
+        wd.map.width = wd.map.height = 10;
+        wd.map.cell_size = 1;
+        wd.gravity = nt_v2(0, 10);
+        wd.friction_model = NT_FRICTION_COULOMB;
+        wd.restitution_threshold = R(0.5);
+        wd.enable_sleep = false;
+        nt_world *w = NULL;
+        assert_int_equal(nt_world_create(&wd, &w), NT_OK);
+        fill(w, 0, 9, 9, 9, NT_TILE_FULL);
+        nt_body_def d = nt_default_body_def();
+        d.type = dynamic_base ? NT_BODY_DYNAMIC : NT_BODY_STATIC;
+        d.shape = nt_shape_aabb(R(0.4), R(0.4));
+        d.position = nt_v2(5, R(9 - 0.4));
+        d.material.bounce = R(0.5);
+        d.material.friction = R(0.5);
+        nt_body_id base;
+        assert_int_equal(nt_body_create(w, &d, &base), NT_OK);
+        nt_body_id top = add_body(w, nt_shape_aabb(R(0.4), R(0.4)), 5, 9 - 1.2, 0, 0, 1, 0.5, 0.5);
+        for (int s = 0; s < 120; s++) assert_int_equal(nt_world_step(w, R(1.0 / 60)), NT_OK);
+        double rest_y = (double)nt_body_get_position(w, top).y, worst_up = 0, worst_move = 0;
+        for (int s = 0; s < 60; s++) {
+            assert_int_equal(nt_world_step(w, R(s == 0 ? 0.1 : 1.0 / 60)), NT_OK);
+            worst_up = fmax(worst_up, -(double)nt_body_get_velocity(w, top).y);
+            worst_move = fmax(worst_move, fabs((double)nt_body_get_position(w, top).y - rest_y));
+        }
+        printf("  %s base: after a longer step the top box moved %.3g cell, up at %.3g cell/s at most\n",
+               dynamic_base ? "dynamic" : "static", worst_move, worst_up);
+        assert_true(worst_move < 0.01);
+        assert_true(worst_up < 0.05);
+        nt_world_destroy(w);
+    }
+}
+
 /* A floor of every tile shape (a row of the tile over FULL), hit from above at the
  * speed limit with gravity: nothing falls through. */
 static void test_no_fall_through_floors(void **state)
@@ -592,6 +636,7 @@ int main(void)
         cmocka_unit_test(test_slope_to_flat_no_bump),
         cmocka_unit_test(test_no_tunnelling),
         cmocka_unit_test(test_no_fall_through_floors),
+        cmocka_unit_test(test_longer_step_no_hop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
