@@ -201,34 +201,34 @@ typedef struct cand {
 typedef struct mview {
     const nt_map *map;
     int ox, oy;
-    int x0, y0, w, h;
 } mview;
+
+/* The map's own cells in the view: VX0 <= x < VX1, VY0 <= y < VY1. */
+#define VX0(v) (-(v)->ox)
+#define VY0(v) (-(v)->oy)
+#define VX1(v) ((v)->map->w - (v)->ox)
+#define VY1(v) ((v)->map->h - (v)->oy)
 
 static inline int vtile(const mview *v, int x, int y) { return nt__map_tile(v->map, x + v->ox, y + v->oy); }
 static inline nt__cell vcell(const mview *v, int x, int y) { return nt__map_cell(v->map, x + v->ox, y + v->oy); }
 
-/* The view from the corner of the cell holding pos (world units; clamped into
- * 0..w, 0..h), and *p: pos in cell units from there. The position in cells is
- * rounded once, as every caller rounds it (casts, queries, the world's cell ranges),
- * so that they all see the object where the resolution does; the subtraction of the
- * corner is exact. What the resolution then computes (depths, pushes, free tests,
- * their rounding allowances) keeps the precision it has near the map's origin. */
-static mview local_view(const nt_map *map, nt_vec2 pos, nt_vec2 *p)
+/* The view from the corner of the cell holding pos (world units), and *p: pos in
+ * cell units from there. The position in cells is rounded once, as every caller
+ * rounds it (casts, queries, the world's cell ranges), so that they all see the
+ * object where the resolution does; the subtraction of the corner is exact. What
+ * the resolution then computes (depths, pushes, free tests, their rounding
+ * allowances) keeps the precision it has near the map's origin. (A position outside
+ * the map gives a corner outside it: cells there are border cells all the same.) */
+static inline mview local_view(const nt_map *map, nt_vec2 pos, nt_vec2 *p)
 {
     mview v;
     nt_real ic = map->inv_cell;
-    int ox = nt__floor_int(pos.x * ic), oy = nt__floor_int(pos.y * ic);
-    ox = ox < 0 ? 0 : (ox > map->w ? map->w : ox);
-    oy = oy < 0 ? 0 : (oy > map->h ? map->h : oy);
+    nt_real gx = pos.x * ic, gy = pos.y * ic;
     v.map = map;
-    v.ox = ox;
-    v.oy = oy;
-    v.x0 = -ox;
-    v.y0 = -oy;
-    v.w = map->w - ox;
-    v.h = map->h - oy;
-    p->x = pos.x * ic - (nt_real)ox;
-    p->y = pos.y * ic - (nt_real)oy;
+    v.ox = nt__floor_int(gx);
+    v.oy = nt__floor_int(gy);
+    p->x = gx - (nt_real)v.ox;
+    p->y = gy - (nt_real)v.oy;
     return v;
 }
 
@@ -285,7 +285,8 @@ static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const 
                   int *nc, int *all_convex, int *present, nt_real *lb)
 {
     const int x0 = r4[0], y0 = r4[1], x1 = r4[2], y1 = r4[3];
-    int overlapped = 0, inside = x0 >= map->x0 && y0 >= map->y0 && x1 < map->w && y1 < map->h;
+    const int ox = map->ox, oy = map->oy;
+    int overlapped = 0, inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->map->w && y1 + oy < map->map->h;
     const nt__cell *cells = map->map->cells;
     const size_t stride = (size_t)map->map->w;
     *nc = 0;
@@ -295,7 +296,7 @@ static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const 
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             /* Cells in the map are read directly; border cells are computed. */
-            nt__cell cell = inside ? cells[(size_t)(y + map->oy) * stride + (size_t)(x + map->ox)] : vcell(map, x, y);
+            nt__cell cell = inside ? cells[(size_t)(y + oy) * stride + (size_t)(x + ox)] : vcell(map, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             (*present)++;
@@ -788,11 +789,11 @@ static int search_directions(const mview *map, nt_vec2 p, nt_shape shape, nt_vec
  * go to the nearest EMPTY cell's centre. Frees the object; not the shortest way. */
 static nt_vec2 escape(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
-    nt_vec2 q = nt_v2(nt__clamp(p.x, (nt_real)map->x0 + h.x, (nt_real)map->w - h.x),
-                      nt__clamp(p.y, (nt_real)map->y0 + h.y, (nt_real)map->h - h.y));
+    nt_vec2 q = nt_v2(nt__clamp(p.x, (nt_real)VX0(map) + h.x, (nt_real)VX1(map) - h.x),
+                      nt__clamp(p.y, (nt_real)VY0(map) + h.y, (nt_real)VY1(map) - h.y));
     if (is_free(map, q, shape, h)) return nt__sub(q, p);
-    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)map->x0, (nt_real)(map->w - 1));
-    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)map->y0, (nt_real)(map->h - 1));
+    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)VX0(map), (nt_real)(VX1(map) - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
     nt_real best = NT_REAL_MAX;
     nt_vec2 d = nt_v2(0, 0);
     for (int ring = 0; ring < 64; ring++) {
@@ -1134,11 +1135,11 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
 {
     const mview *map = o->map;
     const nt_vec2 h = o->h;
-    nt_vec2 q = nt_v2(clamp_in(p.x, h.x, map->x0, map->w), clamp_in(p.y, h.y, map->y0, map->h));
+    nt_vec2 q = nt_v2(clamp_in(p.x, h.x, VX0(map), VX1(map)), clamp_in(p.y, h.y, VY0(map), VY1(map)));
     *d = nt__sub(q, p);
     if (probe_free(o, q)) return 1;
-    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)map->x0, (nt_real)(map->w - 1));
-    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)map->y0, (nt_real)(map->h - 1));
+    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)VX0(map), (nt_real)(VX1(map) - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
     const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
     const nt_real oy[6] = {R(0.5), h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, R(0.25), R(0.75)};
     nt_real best = NT_REAL_MAX;
@@ -1166,11 +1167,11 @@ NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape
     const probe obj = {map, shape, h}, *o = &obj;
     const nt_real far_x = R(1.5) + h.x, far_y = R(1.5) + h.y;
     nt_vec2 d;
-    if (p.x < (nt_real)map->x0 - far_x || p.y < (nt_real)map->y0 - far_y || p.x > (nt_real)map->w + far_x ||
-        p.y > (nt_real)map->h + far_y) {
+    if (p.x < (nt_real)VX0(map) - far_x || p.y < (nt_real)VY0(map) - far_y || p.x > (nt_real)VX1(map) + far_x ||
+        p.y > (nt_real)VY1(map) + far_y) {
         /* Far inside the border: come back into the map first. */
         if (!big_escape(o, p, &d))
-            d = nt__sub(nt_v2(clamp_in(p.x, h.x, map->x0, map->w), clamp_in(p.y, h.y, map->y0, map->h)), p);
+            d = nt__sub(nt_v2(clamp_in(p.x, h.x, VX0(map), VX1(map)), clamp_in(p.y, h.y, VY0(map), VY1(map))), p);
     } else {
         big_gather g;
         big_collect(o, p, &g);
@@ -1246,8 +1247,8 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     cand cs[MAX_CANDS];
     int nc, all_convex, present;
     nt_real lb;
-    if (p.x < (nt_real)vm->x0 - 2 || p.y < (nt_real)vm->y0 - 2 || p.x > (nt_real)vm->w + 2 ||
-        p.y > (nt_real)vm->h + 2) {
+    if (p.x < (nt_real)VX0(vm) - 2 || p.y < (nt_real)VY0(vm) - 2 || p.x > (nt_real)VX1(vm) + 2 ||
+        p.y > (nt_real)VY1(vm) + 2) {
         /* Far inside the border: come back into the map first. */
         nt_vec2 d = escape(vm, p, shape, h);
         res.push = d;
