@@ -902,10 +902,16 @@ static int run_cast(caster *c)
      * would find. */
     int bodies = cast_sees_bodies(c);
     if (!tiles && !bodies) return 0;
-    /* Rounding: 16 units in the last place of the start's coordinates, and of the way
-     * travelled (a long cast must not make what is near the start look shallow). */
+    /* Rounding: of the start's coordinates, and of the way travelled (a long cast
+     * must not make what is near the start look shallow). The start's allowance
+     * covers where earlier moves left the shape against the surfaces they stopped it
+     * at: 16 units in the last place of its coordinates (cells) up to 256 cells from
+     * the origin, at least that much (4.9e-4 cell) beyond, and 4 units where that is
+     * more (from 1,024 cells: 2e-3 cell at 4,096). Growing with 16 units, it was
+     * 7.8e-3 cell there (the resting limit tol twice that): casts missed shallow hits
+     * at the end of their way and a character stopped on slopes (tests/test_far.c). */
     nt_real mag0 = nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y));
-    c->tiny0 = R(16) * NT_REAL_EPS * nt__max(R(1), mag0);
+    c->tiny0 = nt__max(R(16) * NT_REAL_EPS * nt__clamp(mag0, R(1), R(256)), R(4) * NT_REAL_EPS * mag0);
     c->tiny_per_t = R(16) * NT_REAL_EPS * (nt__fabs(c->d.x) + nt__fabs(c->d.y));
     c->tol = nt__max(R(NT_CAST_START_TOLERANCE), 2 * c->tiny0);
     c->best.t = 2;

@@ -405,32 +405,35 @@ struct nt_world {
 };
 
 /* Contacts are left overlapping by this skin, so that a resting contact is found
- * again next step: 2.5e-4 cell, or 8 units in the last place of the coordinates
- * where that is more (far from the origin in float). Constant over each binade, so
- * that a body sliding along a floor does not sink as its x grows. */
+ * again next step: 2.5e-4 cell, or one unit in the last place of the coordinates
+ * where that is more (far from the origin in float: the resolution is exact there,
+ * but the position it moves the body to rounds by half a unit per axis, so the skin
+ * must exceed 0.71 unit for the body to stay in contact). Constant over each binade,
+ * so that a body sliding along a floor does not sink as its x grows. */
 static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 {
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
     nt_real base = w->cell * R(2.5e-4);
-    if (mag * NT_REAL_EPS * 8 <= base) return base;
-    /* 8 ulp of the binade holding mag: 2^(e + 3) * eps with mag = f * 2^e, f in
-     * [0.5, 1), built from mag's exponent field E (e = E - bias + 1) instead of
-     * frexp and ldexp, which are library calls (this runs for every body resolved
-     * far from the origin). Tiny magnitudes (a tiny cell size) take the calls. */
-    nt_real ulp8;
+    if (mag * NT_REAL_EPS <= base) return base;
+    /* The unit in the last place of the binade holding mag: 2^(e - 1) * eps with
+     * mag = f * 2^e, f in [0.5, 1), built from mag's exponent field E (e = E - bias
+     * + 1) instead of frexp and ldexp, which are library calls (this runs for every
+     * body resolved far from the origin). Tiny magnitudes (a tiny cell size) take
+     * the calls. */
+    nt_real ulp;
 #if NT_REAL_IS_DOUBLE
     uint64_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 52) <= 48 || (bits >> 52) >= 2047) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS * 8, ilogb(mag) + 1));
-    bits = ((bits >> 52) - 48) << 52;
+    if ((bits >> 52) <= 52 || (bits >> 52) >= 2047) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS, ilogb(mag)));
+    bits = ((bits >> 52) - 52) << 52;
 #else
     uint32_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 23) <= 19 || (bits >> 23) >= 255) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, ilogb(mag) + 1));
-    bits = ((bits >> 23) - 19) << 23;
+    if ((bits >> 23) <= 23 || (bits >> 23) >= 255) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS, ilogb(mag)));
+    bits = ((bits >> 23) - 23) << 23;
 #endif
-    memcpy(&ulp8, &bits, sizeof ulp8);
-    return nt__max(base, ulp8);
+    memcpy(&ulp, &bits, sizeof ulp);
+    return nt__max(base, ulp);
 }
 
 /* floor() to int without a libm call, for the hot paths; clamped like nt__floor_int. */

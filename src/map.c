@@ -192,10 +192,50 @@ typedef struct cand {
 
 #define MAX_CANDS 4
 
+/* The map as the resolution sees it: cells numbered from the cell (ox, oy) of the
+ * map, which is the local origin of every position it computes with (cell units).
+ * Near that origin float keeps the precision it has near the map's origin, so the
+ * answers (pushes, depths) are as exact at the far corner of the largest map as near
+ * its origin; only the caller's world position rounds them. The map's own cells are
+ * x0 <= x < w, y0 <= y < h here. */
+typedef struct mview {
+    const nt_map *map;
+    int ox, oy;
+} mview;
+
+/* The map's own cells in the view: VX0 <= x < VX1, VY0 <= y < VY1. */
+#define VX0(v) (-(v)->ox)
+#define VY0(v) (-(v)->oy)
+#define VX1(v) ((v)->map->w - (v)->ox)
+#define VY1(v) ((v)->map->h - (v)->oy)
+
+static inline int vtile(const mview *v, int x, int y) { return nt__map_tile(v->map, x + v->ox, y + v->oy); }
+static inline nt__cell vcell(const mview *v, int x, int y) { return nt__map_cell(v->map, x + v->ox, y + v->oy); }
+
+/* The view from the corner of the cell holding pos (world units), and *p: pos in
+ * cell units from there. The position in cells is rounded once, as every caller
+ * rounds it (casts, queries, the world's cell ranges), so that they all see the
+ * object where the resolution does; the subtraction of the corner is exact. What
+ * the resolution then computes (depths, pushes, free tests, their rounding
+ * allowances) keeps the precision it has near the map's origin. (A position outside
+ * the map gives a corner outside it: cells there are border cells all the same.) */
+static inline mview local_view(const nt_map *map, nt_vec2 pos, nt_vec2 *p)
+{
+    mview v;
+    nt_real ic = map->inv_cell;
+    nt_real gx = pos.x * ic, gy = pos.y * ic;
+    v.map = map;
+    v.ox = nt__floor_int(gx);
+    v.oy = nt__floor_int(gy);
+    p->x = gx - (nt_real)v.ox;
+    p->y = gy - (nt_real)v.oy;
+    return v;
+}
+
 /* A large object being resolved (cell units), for the helpers of resolve_big that
  * test it at many places. */
 typedef struct probe {
-    const nt_map *map;
+    const mview *map;
     nt_shape shape;
     nt_vec2 h;
 } probe;
@@ -220,14 +260,14 @@ static inline void cell_range(nt_vec2 p, nt_vec2 h, int *x0, int *y0, int *x1, i
 }
 
 /* Largest single-tile depth at p (cell units), no masks: 0 when free. */
-static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
     nt_real worst = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
+            int t = vtile(map, x, y);
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
             if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > worst)
@@ -241,11 +281,14 @@ static nt_real depth_at(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
  * overlapped tiles; *nc receives the number of candidates, *lb the deepest unmasked
  * single-tile depth (no way out of the union is shorter), or -1 when a masked tile
  * overlaps. */
-static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], unsigned use_masks, cand *cs,
+static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], unsigned use_masks, cand *cs,
                   int *nc, int *all_convex, int *present, nt_real *lb)
 {
     const int x0 = r4[0], y0 = r4[1], x1 = r4[2], y1 = r4[3];
-    int overlapped = 0, inside = x0 >= 0 && y0 >= 0 && x1 < map->w && y1 < map->h;
+    const int ox = map->ox, oy = map->oy;
+    int overlapped = 0, inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->map->w && y1 + oy < map->map->h;
+    const nt__cell *cells = map->map->cells;
+    const size_t stride = (size_t)map->map->w;
     *nc = 0;
     *all_convex = 1;
     *present = 0;
@@ -253,7 +296,7 @@ static int gather(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             /* Cells in the map are read directly; border cells are computed. */
-            nt__cell cell = inside ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
+            nt__cell cell = inside ? cells[(size_t)(y + oy) * stride + (size_t)(x + ox)] : vcell(map, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             (*present)++;
@@ -286,13 +329,13 @@ static inline nt_real free_tolerance(nt_vec2 p)
     return R(16) * NT_REAL_EPS * nt__max(R(1), mag);
 }
 
-static int is_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+static int is_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     return depth_at(map, p, shape, h) <= free_tolerance(p);
 }
 
 /* Free up to rounding only: for searches that converge onto the contact. */
-static int is_free_strict(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+static int is_free_strict(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
     return depth_at(map, p, shape, h) <= R(8) * NT_REAL_EPS * mag;
@@ -300,13 +343,13 @@ static int is_free_strict(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
 
 /* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
  * the first such tile.) */
-static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+static int overlaps_beyond(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
 {
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
+            int t = vtile(map, x, y);
             if (t == NT_TILE_EMPTY) continue;
             /* A circle's depth in a tile is at least r minus its centre's distance to
              * the solid: for CONCAVE tiles (whose way out is a search) that settles
@@ -323,7 +366,7 @@ static int overlaps_beyond(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2
 }
 
 /* is_free's verdict, by the early-out scan. */
-static int big_free(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+static int big_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
 }
@@ -372,7 +415,7 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
  * early-out scan (the same verdicts). The scalar parameters, not a probe: the small
  * path's caller is inlined into nt_map_resolve, where a struct cost 0.5 % of the
  * particles scene. */
-static int shortest_freeing(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
+static int shortest_freeing(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
                             int big, nt_resolution *out)
 {
     nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
@@ -417,7 +460,7 @@ static int shortest_freeing(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec
 
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
-static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], const cand *cs, int nc,
+static int best_candidate(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], const cand *cs, int nc,
                           int overlapped, int all_convex, int present, nt_real lb, nt_resolution *out, nt_real *lower)
 {
     /* Fast certificate: every overlapped tile pushes the same way and is convex, so
@@ -443,7 +486,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
             nt_real tol = free_tolerance(q);
             for (int y = d0; y <= d1 && clear && !same_range; y++)
                 for (int x = c0; x <= c1; x++) {
-                    int t = nt__map_tile(map, x, y), known = 0;
+                    int t = vtile(map, x, y), known = 0;
                     if (t == NT_TILE_EMPTY) continue;
                     for (int i = 0; i < nc && all_convex; i++) known |= cs[i].cx == x && cs[i].cy == y;
                     if (known) continue;
@@ -468,7 +511,7 @@ static int best_candidate(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 
                     for (int i = 0; i < nc; i++) {
                         nt_mtv m;
                         int x = cs[i].cx, y = cs[i].cy;
-                        if (tile_test(nt__map_tile(map, x, y), p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) ==
+                        if (tile_test(vtile(map, x, y), p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) ==
                                 NT__PUSH &&
                             m.depth > plain)
                             plain = m.depth;
@@ -661,7 +704,7 @@ static void set_from_feats(nt_resolution *out, nt_vec2 c, nt_vec2 p, const feat 
 }
 
 /* Nearest free point within `reach` of c. Returns 1 and fills out when found. */
-static int enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_real reach, nt_resolution *out)
+static int enumerate(const mview *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_real reach, nt_resolution *out)
 {
     feats all;
     all.n = 0;
@@ -669,7 +712,7 @@ static int enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt
     int y0 = nt__floor_int(c.y - h.y - reach), y1 = nt__floor_int(c.y + h.y + reach);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
+            int t = vtile(map, x, y);
             if (t != NT_TILE_EMPTY) tile_features(&all, t, x, y, shape, h);
         }
     /* Keep the curves that come within reach. */
@@ -707,7 +750,7 @@ static int enumerate(const nt_map *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt
 }
 
 /* Last resort for deep positions: the nearest free point found along 64 directions. */
-static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
+static int search_directions(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
 {
     enum { DIRS = 64, STEPS = 48 };
     const nt_real reach = R(1.5);
@@ -744,12 +787,13 @@ static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_ve
 
 /* Deep in solid, beyond any short way out: clamp into the map and, if still stuck,
  * go to the nearest EMPTY cell's centre. Frees the object; not the shortest way. */
-static nt_vec2 escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
+static nt_vec2 escape(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
-    nt_vec2 q = nt_v2(nt__clamp(p.x, h.x, (nt_real)map->w - h.x), nt__clamp(p.y, h.y, (nt_real)map->h - h.y));
+    nt_vec2 q = nt_v2(nt__clamp(p.x, (nt_real)VX0(map) + h.x, (nt_real)VX1(map) - h.x),
+                      nt__clamp(p.y, (nt_real)VY0(map) + h.y, (nt_real)VY1(map) - h.y));
     if (is_free(map, q, shape, h)) return nt__sub(q, p);
-    int cx = (int)nt__clamp(nt__floor(q.x), 0, (nt_real)(map->w - 1));
-    int cy = (int)nt__clamp(nt__floor(q.y), 0, (nt_real)(map->h - 1));
+    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)VX0(map), (nt_real)(VX1(map) - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
     nt_real best = NT_REAL_MAX;
     nt_vec2 d = nt_v2(0, 0);
     for (int ring = 0; ring < 64; ring++) {
@@ -757,7 +801,7 @@ static nt_vec2 escape(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
         for (int y = cy - ring; y <= cy + ring; y++)
             for (int x = cx - ring; x <= cx + ring; x++) {
                 if (x != cx - ring && x != cx + ring && y != cy - ring && y != cy + ring) continue;
-                if (nt__map_tile(map, x, y) != NT_TILE_EMPTY) continue;
+                if (vtile(map, x, y) != NT_TILE_EMPTY) continue;
                 nt_vec2 c = nt_v2((nt_real)x + R(0.5), (nt_real)y + R(0.5));
                 nt_real dist = nt__len(nt__sub(c, p));
                 if (dist < best) {
@@ -808,7 +852,7 @@ static void big_collect(const probe *o, nt_vec2 p, big_gather *g)
     if (g->fits) memset(g->hit, 0, sizeof g->hit);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = nt__map_cell(o->map, x, y);
+            nt__cell cell = vcell(o->map, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
@@ -860,7 +904,7 @@ static int big_certificate(const probe *o, nt_vec2 p, const big_gather *g, nt_re
             if (g->all_convex && g->fits && x >= x0 && x <= x1 && y >= y0 && y <= y1 &&
                 g->hit[(y - y0) * BIG_SIDE + (x - x0)])
                 continue;
-            int t = nt__map_tile(o->map, x, y);
+            int t = vtile(o->map, x, y);
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
             if (tile_test(t, q.x - (nt_real)x, q.y - (nt_real)y, o->shape, o->h, 0, &m) == NT__PUSH && m.depth > tol)
@@ -942,7 +986,7 @@ static int big_features(const probe *o, nt_vec2 c, nt_real reach, big_feats *all
     nt_vec2 off = shape.type == NT_SHAPE_CIRCLE ? nt_v2(h.x, h.x) : h;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = nt__map_cell(o->map, x, y);
+            nt__cell cell = vcell(o->map, x, y);
             if (cell.tile == NT_TILE_EMPTY) continue;
             feats one; /* a tile has at most 9 curves */
             one.n = 0;
@@ -1078,10 +1122,10 @@ static int big_enumerate(const probe *o, nt_vec2 c, nt_real reach, nt_resolution
 
 /* One axis of the map: the centre clamped so that the object lies inside (the
  * middle when the map is narrower than the object). */
-static nt_real clamp_in(nt_real v, nt_real half, int side)
+static nt_real clamp_in(nt_real v, nt_real half, int s0, int s1)
 {
-    nt_real lo = half, hi = (nt_real)side - half;
-    return lo > hi ? R(0.5) * (nt_real)side : nt__clamp(v, lo, hi);
+    nt_real lo = (nt_real)s0 + half, hi = (nt_real)s1 - half;
+    return lo > hi ? R(0.5) * ((nt_real)s0 + (nt_real)s1) : nt__clamp(v, lo, hi);
 }
 
 /* Last resort (cf. escape), sized for the object: centres that put it in the middle
@@ -1089,13 +1133,13 @@ static nt_real clamp_in(nt_real v, nt_real half, int side)
  * them within 32 cells is free (no room that way for the object). */
 static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
 {
-    const nt_map *map = o->map;
+    const mview *map = o->map;
     const nt_vec2 h = o->h;
-    nt_vec2 q = nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h));
+    nt_vec2 q = nt_v2(clamp_in(p.x, h.x, VX0(map), VX1(map)), clamp_in(p.y, h.y, VY0(map), VY1(map)));
     *d = nt__sub(q, p);
     if (probe_free(o, q)) return 1;
-    int cx = (int)nt__clamp(nt__floor(q.x), 0, (nt_real)(map->w - 1));
-    int cy = (int)nt__clamp(nt__floor(q.y), 0, (nt_real)(map->h - 1));
+    int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)VX0(map), (nt_real)(VX1(map) - 1));
+    int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
     const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
     const nt_real oy[6] = {R(0.5), h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, R(0.25), R(0.75)};
     nt_real best = NT_REAL_MAX;
@@ -1118,14 +1162,16 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
 }
 
 /* nt_map_resolve for a large object, in cell units (p, h); res is zeroed. */
-NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
+NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
 {
     const probe obj = {map, shape, h}, *o = &obj;
     const nt_real far_x = R(1.5) + h.x, far_y = R(1.5) + h.y;
     nt_vec2 d;
-    if (p.x < -far_x || p.y < -far_y || p.x > (nt_real)map->w + far_x || p.y > (nt_real)map->h + far_y) {
+    if (p.x < (nt_real)VX0(map) - far_x || p.y < (nt_real)VY0(map) - far_y || p.x > (nt_real)VX1(map) + far_x ||
+        p.y > (nt_real)VY1(map) + far_y) {
         /* Far inside the border: come back into the map first. */
-        if (!big_escape(o, p, &d)) d = nt__sub(nt_v2(clamp_in(p.x, h.x, map->w), clamp_in(p.y, h.y, map->h)), p);
+        if (!big_escape(o, p, &d))
+            d = nt__sub(nt_v2(clamp_in(p.x, h.x, VX0(map), VX1(map)), clamp_in(p.y, h.y, VY0(map), VY1(map))), p);
     } else {
         big_gather g;
         big_collect(o, p, &g);
@@ -1139,7 +1185,7 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
          * whole map is in it: deep inside a mass of tiles, the answer is still the
          * shortest way out, at a cost that grows with the depth. */
         nt_real len = found ? nt__len(res->push) : 2 * nt__max(h.x, h.y) + 2;
-        nt_real all = (nt_real)map->w + (nt_real)map->h + 4 * nt__max(h.x, h.y) + 4;
+        nt_real all = (nt_real)map->map->w + (nt_real)map->map->h + 4 * nt__max(h.x, h.y) + 4;
         if (!found || len > lb * R(1.000001) + R(1e-6))
             for (;;) {
                 nt_resolution e;
@@ -1165,6 +1211,17 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
     return true;
 }
 
+/* A resolution in the view's cell units back to world units and the map's cells. */
+static void to_world(nt_resolution *res, const mview *v, nt_real cell)
+{
+    res->push = nt__scale(res->push, cell);
+    for (int i = 0; i < res->contact_count; i++) {
+        res->contacts[i].depth *= cell;
+        res->contacts[i].cell_x += v->ox;
+        res->contacts[i].cell_y += v->oy;
+    }
+}
+
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
     nt_resolution res;
@@ -1175,14 +1232,14 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(NT_MAX_HALF_CELLS) &&
               shape.half.y <= map->cell * R(NT_MAX_HALF_CELLS));
     nt_real ic = map->inv_cell, cell = map->cell;
-    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
+    if (!nt__finite(pos.x) || !nt__finite(pos.y)) return false;
+    nt_vec2 p;
+    const mview view = local_view(map, pos, &p), *vm = &view;
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
     if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
     if (h.x > R(0.5) || h.y > R(0.5)) {
-        if (!resolve_big(map, p, shape, h, &res)) return false;
-        /* Back to world units. */
-        res.push = nt__scale(res.push, cell);
-        for (int i = 0; i < res.contact_count; i++) res.contacts[i].depth *= cell;
+        if (!resolve_big(vm, p, shape, h, &res)) return false;
+        to_world(&res, vm, cell);
         if (out) *out = res;
         return true;
     }
@@ -1190,46 +1247,48 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     cand cs[MAX_CANDS];
     int nc, all_convex, present;
     nt_real lb;
-    if (p.x < -2 || p.y < -2 || p.x > (nt_real)map->w + 2 || p.y > (nt_real)map->h + 2) {
+    if (p.x < (nt_real)VX0(vm) - 2 || p.y < (nt_real)VY0(vm) - 2 || p.x > (nt_real)VX1(vm) + 2 ||
+        p.y > (nt_real)VY1(vm) + 2) {
         /* Far inside the border: come back into the map first. */
-        nt_vec2 d = escape(map, p, shape, h);
-        res.push = nt__scale(d, cell);
+        nt_vec2 d = escape(vm, p, shape, h);
+        res.push = d;
         nt_real l = nt__len(d);
         res.contact_count = 1;
         res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-        res.contacts[0].depth = l * cell;
+        res.contacts[0].depth = l;
         res.contacts[0].cell_x = nt__floor_int(p.x);
         res.contacts[0].cell_y = nt__floor_int(p.y);
+        to_world(&res, vm, cell);
         if (out) *out = res;
         return true;
     }
     int r4[4];
     cell_range(p, h, &r4[0], &r4[1], &r4[2], &r4[3]);
-    int overlapped = gather(map, p, shape, h, r4, 1u, cs, &nc, &all_convex, &present, &lb);
+    int overlapped = gather(vm, p, shape, h, r4, 1u, cs, &nc, &all_convex, &present, &lb);
     if (overlapped == 0) return false;
 
     nt_real lower = 0;
-    int found = best_candidate(map, p, shape, h, r4, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
+    int found = best_candidate(vm, p, shape, h, r4, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
     nt_real len = found ? nt__len(res.push) : R(0.8);
     if (!found || len > lower * R(1.000001) + R(1e-6)) {
         nt_resolution e;
         memset(&e, 0, sizeof e);
-        if (enumerate(map, p, shape, h, len, &e)) {
+        if (enumerate(vm, p, shape, h, len, &e)) {
             res = e;
             found = 1;
         }
     }
     if (!found) {
-        nt_vec2 d, e = escape(map, p, shape, h);
-        if (!search_directions(map, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
+        nt_vec2 d, e = escape(vm, p, shape, h);
+        if (!search_directions(vm, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
         nt_real l = nt__len(d);
         /* Deeper than the exact search reached: the sampled way out bounds the
          * shortest, which the exact search then finds within that reach. */
         nt_resolution x;
         memset(&x, 0, sizeof x);
-        if (l > R(0.8) && l < R(2) && enumerate(map, p, shape, h, l * R(1.0001) + R(1e-6), &x)) {
+        if (l > R(0.8) && l < R(2) && enumerate(vm, p, shape, h, l * R(1.0001) + R(1e-6), &x)) {
             res = x;
         } else {
             res.push = d;
@@ -1240,9 +1299,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
             res.contacts[0].cell_y = nt__floor_int(p.y);
         }
     }
-    /* Back to world units. */
-    res.push = nt__scale(res.push, cell);
-    for (int i = 0; i < res.contact_count; i++) res.contacts[i].depth *= cell;
+    to_world(&res, vm, cell);
     if (out) *out = res;
     return true;
 }
@@ -1258,15 +1315,16 @@ int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_
 {
     const nt_shape shape = *shape_p;
     nt_real ic = map->inv_cell;
-    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
-    if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;
+    if (!nt__finite(pos.x) || !nt__finite(pos.y)) return 0;
+    nt_vec2 p;
+    const mview view = local_view(map, pos, &p);
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
     nt_real round_limit = limit * ic - R(1e-5);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            int t = nt__map_tile(map, x, y);
+            int t = vtile(&view, x, y);
             if (t == NT_TILE_EMPTY) continue;
             nt_vec2 c = nt_v2(p.x - (nt_real)x, p.y - (nt_real)y);
             if (shape.type == NT_SHAPE_AABB) {
@@ -1285,7 +1343,8 @@ nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape)
 {
     if (!map) return 0;
     nt_real ic = map->inv_cell;
-    nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
-    if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;
-    return depth_at(map, p, shape, nt_v2(shape.half.x * ic, shape.half.y * ic)) * map->cell;
+    if (!nt__finite(pos.x) || !nt__finite(pos.y)) return 0;
+    nt_vec2 p;
+    const mview view = local_view(map, pos, &p);
+    return depth_at(&view, p, shape, nt_v2(shape.half.x * ic, shape.half.y * ic)) * map->cell;
 }

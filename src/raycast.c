@@ -453,21 +453,21 @@ static inline int corner_full(int tile, int cx, int cy)
 /* Is the grid point g (cell (ix, iy) = floor(g)) inside the interior of the union of
  * the tiles? On a grid line both cells must cover the point; at a vertex all four
  * cells must fill their corner. */
-static bool point_interior(const nt_map *m, nt_vec2 g, int ix, int iy, int onx, int ony)
+static bool point_interior(const nt_map *m, nt_vec2 g, int ix, int iy, int onx, int ony, int ox, int oy)
 {
-    if (!onx && !ony) return nt_tile_contains_point(nt__map_tile(m, ix, iy), nt_v2(g.x - R(ix), g.y - R(iy)));
+    /* g, ix, iy relative to the cell (ox, oy) */
+    const int X = ix + ox, Y = iy + oy;
+    if (!onx && !ony) return nt_tile_contains_point(nt__map_tile(m, X, Y), nt_v2(g.x - R(ix), g.y - R(iy)));
     if (onx && !ony) {
         nt_real u = g.y - R(iy);
-        return cover_has(nt__map_tile(m, ix - 1, iy), NT_SIDE_RIGHT, u) &&
-               cover_has(nt__map_tile(m, ix, iy), NT_SIDE_LEFT, u);
+        return cover_has(nt__map_tile(m, X - 1, Y), NT_SIDE_RIGHT, u) && cover_has(nt__map_tile(m, X, Y), NT_SIDE_LEFT, u);
     }
     if (ony && !onx) {
         nt_real u = g.x - R(ix);
-        return cover_has(nt__map_tile(m, ix, iy - 1), NT_SIDE_BOTTOM, u) &&
-               cover_has(nt__map_tile(m, ix, iy), NT_SIDE_TOP, u);
+        return cover_has(nt__map_tile(m, X, Y - 1), NT_SIDE_BOTTOM, u) && cover_has(nt__map_tile(m, X, Y), NT_SIDE_TOP, u);
     }
-    return corner_full(nt__map_tile(m, ix - 1, iy - 1), 1, 1) && corner_full(nt__map_tile(m, ix, iy - 1), 0, 1) &&
-           corner_full(nt__map_tile(m, ix - 1, iy), 1, 0) && corner_full(nt__map_tile(m, ix, iy), 0, 0);
+    return corner_full(nt__map_tile(m, X - 1, Y - 1), 1, 1) && corner_full(nt__map_tile(m, X, Y - 1), 0, 1) &&
+           corner_full(nt__map_tile(m, X - 1, Y), 1, 0) && corner_full(nt__map_tile(m, X, Y), 0, 0);
 }
 
 /* The outward normal of the face that leaves side `side` of the tile at parameter u
@@ -516,7 +516,8 @@ static int face_normal_at(int tile, int side, nt_real u, nt_vec2 *n)
 typedef struct ray_ctx {
     const nt_map *map;
     nt_vec2 p0, d;   /* world start and (possibly scaled) world direction */
-    nt_vec2 g0, gd;  /* the same in grid units (cells) */
+    nt_vec2 g0, gd;  /* the same in grid units (cells); g0 from the corner of the cell (ox, oy) */
+    int ox, oy;
     nt_real tend;    /* the segment is t in [0, tend] (1 unless d had to be scaled) */
 } ray_ctx;
 
@@ -553,7 +554,7 @@ static bool gridline_walk(const ray_ctx *r, int axis, int line, nt_ray_hit *out)
         if ((near - s0) / ds >= r->tend) break;
         int ax = axis == 0 ? i : line - 1, ay = axis == 0 ? line - 1 : i;
         int bx = axis == 0 ? i : line, by = axis == 0 ? line : i;
-        int ta = nt__map_tile(m, ax, ay), tb = nt__map_tile(m, bx, by);
+        int ta = nt__map_tile(m, ax + r->ox, ay + r->oy), tb = nt__map_tile(m, bx + r->ox, by + r->oy);
         const nt_tile_info *ia = &nt__tiles[ta], *ib = &nt__tiles[tb];
         nt_real lo = nt__max(ia->cover_lo[sa], ib->cover_lo[sb]);
         nt_real hi = nt__min(ia->cover_hi[sa], ib->cover_hi[sb]);
@@ -563,7 +564,7 @@ static bool gridline_walk(const ray_ctx *r, int axis, int line, nt_ray_hit *out)
         nt_real t_out = (R(i) + (step > 0 ? hi : lo) - s0) / ds;
         if (!(t_out > 0)) continue; /* behind the start */
         if (t_in >= r->tend) break;
-        if (t_in < 0) return report(r, 0, nt_v2(0, 0), bx, by, out);
+        if (t_in < 0) return report(r, 0, nt_v2(0, 0), bx + r->ox, by + r->oy, out);
         /* The surface met: the face leaving the line at u, of whichever side ends the gap. */
         nt_vec2 n = nt_v2(-dir.x, -dir.y), cand;
         int cx = bx, cy = by, found = 0;
@@ -579,7 +580,7 @@ static bool gridline_walk(const ray_ctx *r, int axis, int line, nt_ray_hit *out)
             cx = bx;
             cy = by;
         }
-        return report(r, t_in, n, cx, cy, out);
+        return report(r, t_in, n, cx + r->ox, cy + r->oy, out);
     }
     return false;
 }
@@ -592,13 +593,24 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
     ray_ctx r;
     r.map = map;
     r.p0 = p0;
-    r.g0 = nt_v2(p0.x / cs, p0.y / cs);
+    nt_vec2 ga = nt_v2(p0.x / cs, p0.y / cs);
     r.tend = 1;
     r.d = nt__sub(p1, p0);
 
     /* Outside the map: inside the border's solid. */
-    if (!(r.g0.x >= 0 && r.g0.y >= 0 && r.g0.x <= R(map->w) && r.g0.y <= R(map->h)))
-        return report(&r, 0, nt_v2(0, 0), nt__floor_int(r.g0.x), nt__floor_int(r.g0.y), out);
+    if (!(ga.x >= 0 && ga.y >= 0 && ga.x <= R(map->w) && ga.y <= R(map->h)))
+        return report(&r, 0, nt_v2(0, 0), nt__floor_int(ga.x), nt__floor_int(ga.y), out);
+
+    /* The walk works from the corner of the start's cell (ox, oy): the start is taken
+     * from there in double, where p0 - ox * cell is exact for float (a cell index of
+     * at most 13 bits times a float cell size), and rounded once, so that it keeps
+     * every bit of p0 however far from the map's origin; cells are numbered from
+     * there too, and the crossings computed in them keep the precision they have near
+     * the origin. */
+    r.ox = nt__floor_int(ga.x);
+    r.oy = nt__floor_int(ga.y);
+    r.g0 = nt_v2((nt_real)(((double)p0.x - (double)r.ox * (double)cs) / (double)cs),
+                 (nt_real)(((double)p0.y - (double)r.oy * (double)cs) / (double)cs));
 
     const int ix = nt__floor_int(r.g0.x), iy = nt__floor_int(r.g0.y);
     const int onx = R(ix) == r.g0.x, ony = R(iy) == r.g0.y;
@@ -619,7 +631,8 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
 
     /* A start on a grid line or vertex, or a point: classify it against the union. */
     if (onx || ony || zero) {
-        if (point_interior(map, r.g0, ix, iy, onx, ony)) return report(&r, 0, nt_v2(0, 0), ix, iy, out);
+        if (point_interior(map, r.g0, ix, iy, onx, ony, r.ox, r.oy))
+            return report(&r, 0, nt_v2(0, 0), ix + r.ox, iy + r.oy, out);
         if (zero) return false;
         if (onx && r.gd.x == 0) return gridline_walk(&r, 1, ix, out);
         if (ony && r.gd.y == 0) return gridline_walk(&r, 0, iy, out);
@@ -645,10 +658,10 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
 
     nt_real t;
     nt_vec2 n;
-    nt__cell cur = cell_at(map, cx, cy);
+    nt__cell cur = cell_at(map, cx + r.ox, cy + r.oy);
     if (cur.tile != NT_TILE_EMPTY &&
         ray_tile_m(cur.tile, nt_v2(r.g0.x - R(cx), r.g0.y - R(cy)), r.gd, r.tend, cur.seams, &t, &n))
-        return report(&r, t, n, cx, cy, out);
+        return report(&r, t, n, cx + r.ox, cy + r.oy, out);
 
     /* Rounding of the crossing point along an edge, in cells. */
     const nt_real vtol = R(64) * NT_REAL_EPS *
@@ -693,18 +706,18 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
             }
             if (t >= r.tend) return false;
             if (v > vtol && v < 1 - vtol) {
-                report(&r, t, n, cx, cy, out);
+                report(&r, t, n, cx + r.ox, cy + r.oy, out);
                 if (out) { /* put the point exactly on the wall */
-                    if (side <= NT_SIDE_RIGHT) out->point.x = R(stepx > 0 ? cx : cx + 1) * cs;
-                    else out->point.y = R(stepy > 0 ? cy : cy + 1) * cs;
+                    if (side <= NT_SIDE_RIGHT) out->point.x = R(r.ox + (stepx > 0 ? cx : cx + 1)) * cs;
+                    else out->point.y = R(r.oy + (stepy > 0 ? cy : cy + 1)) * cs;
                 }
                 return true;
             }
         }
-        cur = cell_at(map, cx, cy);
+        cur = cell_at(map, cx + r.ox, cy + r.oy);
         if (cur.tile == NT_TILE_EMPTY) continue;
         if (ray_tile_m(cur.tile, nt_v2(r.g0.x - R(cx), r.g0.y - R(cy)), r.gd, r.tend, cur.seams, &t, &n))
-            return report(&r, t, n, cx, cy, out);
+            return report(&r, t, n, cx + r.ox, cy + r.oy, out);
     }
     return false;
 }

@@ -67,10 +67,14 @@
  * sampled: the segment is cut at every line and circle that can bound that region,
  * the exact overlap test at the middle of each piece says whether it is inside, and a
  * stretch inside counts when it gets deeper than rounding (16 units in the last place
- * of the start's coordinates, plus as much of the distance travelled). Touching is not
- * hitting: a shape that slides along a surface, or grazes a corner, goes on.
- * Measured against a brute-force reference (bisection on an independent overlap test):
- * within 1e-8 cell of travel in double builds, 1e-5 in float builds near the origin.
+ * of the start's coordinates in cells up to 256 cells from the origin, 4.9e-4 cell
+ * beyond, 4 units from 1,024 cells on: 2e-3 cell at 4,096; plus 16 units of the
+ * distance travelled). Touching is not hitting: a shape that slides along a surface,
+ * or grazes a corner, goes on. Measured against a brute-force reference (bisection on
+ * an independent overlap test): within 1e-8 cell of travel in double builds, 1e-5 in
+ * float builds near the origin; far from it, float rounds the start to cells (1.8e-4
+ * cell of travel at 1,000 cells, 7.6e-4 at the far corner of a 4096 x 4096 map:
+ * tests/test_far.c, which also runs a character down and up slopes there).
  *
  * Where the cast starts:
  *  - Free (overlapping nothing by more than rounding): t is exact, as above.
@@ -104,7 +108,8 @@ extern "C" {
 #endif
 
 /// Largest start overlap, in cells, that a shape cast treats as resting contact (more
-/// is a start inside solid: t = 0, zero normal).
+/// is a start inside solid: t = 0, zero normal). In float, twice the start's rounding
+/// allowance where that is more: from 1,049 cells from the origin (3.9e-3 cell at 4,096).
 #define NT_CAST_START_TOLERANCE 1e-3
 
 /// What a tile shape cast hit.

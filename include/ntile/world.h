@@ -23,10 +23,15 @@
  * meets instead of being found inside each other. Pairs closing faster than about
  * a cell per step can still pass into each other.
  *
- * Contacts rest a "skin" deep (2.5e-4 cell; more far from the origin in float), so
- * that a resting contact is found again every step: a body on a floor sits
- * 2.5e-4 cell into it (a body thinner than two skins, half its thickness).
- * nt_map_overlap_depth of any body stays below 1e-3 cell.
+ * Contacts rest a "skin" deep (2.5e-4 cell), so that a resting contact is found
+ * again every step: a body on a floor sits 2.5e-4 cell into it (a body thinner than
+ * two skins, half its thickness). In float, where one unit in the last place of a
+ * coordinate is more than that (never nearer than 2,097 cells to the origin; 2,731
+ * cells for N's cell size of 24), the skin is that unit, so that the rounding of the
+ * position cannot lift the body out of contact: at most 5e-4 cell on the largest map. nt_map_overlap_depth of any body
+ * stays below 1e-3 cell everywhere on the largest map (tests/test_far.c: 150 bodies
+ * thrown at the speed limit, deepest 2.5e-4 cell near the origin and 7.1e-4 cell at
+ * the far corner of a 4096 x 4096 map in float, 2.5e-4 in double).
  *
  * Large bodies: a body above half a cell sits in a coarser level of the loose grid
  * (cells 2, 4 or 8 map cells wide), meets the tiles over every cell its box covers
