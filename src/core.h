@@ -210,8 +210,9 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
  * been in the air for a whole step: its flight is the parabola); from the velocity
  * solve to the move, a time-of-impact shift waits in scratch_r (response.c); the move
  * met a tile surface it had not rested on; the correction after the move must look
- * at the body's pairs (kicked by the solve, fast, or met a tile: response.c). */
-enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4, NT__MF_MET = 8, NT__MF_KICKED = 16 };
+ * at the body's pairs (kicked by the solve or fast: in the broad phase too; left
+ * closing by the solve: its contacts only; response.c). */
+enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4, NT__MF_MET = 8, NT__MF_KICKED = 16, NT__MF_RECHECK = 32 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16 };

@@ -600,16 +600,18 @@ static inline int32_t other_body(const nt__contact *c, int32_t i)
 /* Each body's contacts (live, not sensors) as lists in w->adj: body i's are
  * adj[start[i] .. end[i]) (start = w->level_q, end = w->level_q + body_cap), for the
  * bodies of the contacts only; an entry is the contact's index k, or -1 - k when the
- * pair is not two moving bodies within the skin of each other. Made once a step,
- * after the pairs: the levels walk them, and so does the correction after the move.
+ * pair is not two moving bodies (or there are no levels). Made once a step, after the
+ * pairs: the levels walk them, and so does the correction after the move.
  *
- * Levels, on the way (with gravity): how many touching contacts each body is from the
- * ground (a tile surface that holds it against gravity, or a body that does not
- * move), breadth first; the bodies in that order go to w->level_q + 2 body_cap. In a
- * stack or a pile the lower body of a pair is the one nearer the ground: the velocity
- * solve's last pass (shock_pass) goes up the levels with it not giving way.
- * w->leveled is 0 without gravity (no ground) and when no body touches the ground;
- * bodies not connected to the ground by touching contacts get NT__NO_LEVEL. */
+ * Levels, on the way (with gravity): how many contacts each body is from the ground
+ * (a body touching a tile surface that holds it against gravity, or touching a body
+ * that does not move), breadth first over the contacts between moving bodies,
+ * speculative ones too (a column falling onto a pile is levelled before it lands); the
+ * bodies in that order go to w->level_q + 2 body_cap. In a stack or a pile the lower
+ * body of a pair is the one nearer the ground: the velocity solve's last pass
+ * (shock_pass) goes up the levels with it not giving way. w->leveled is 0 without
+ * gravity (no ground) and when no body touches the ground; bodies not connected to
+ * the ground get NT__NO_LEVEL. */
 #define NT__NO_LEVEL INT32_MAX
 static void build_contact_lists(nt_world *w)
 {
@@ -667,8 +669,7 @@ static void build_contact_lists(nt_world *w)
         const nt__contact *c = &w->con[k];
         if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
         int32_t ia = key_a(c->key), ib = key_b(c->key);
-        int held = leveled && c->depth > -nt__skin(w, w->bodies[ia].p) && solver_w(&w->bodies[ia]) > 0 &&
-                   solver_w(&w->bodies[ib]) > 0;
+        int held = leveled && solver_w(&w->bodies[ia]) > 0 && solver_w(&w->bodies[ib]) > 0;
         int32_t e = held ? k : -1 - k;
         adj[end[ia]++] = e;
         adj[end[ib]++] = e;
@@ -829,7 +830,8 @@ static void correct_after_move(nt_world *w)
 {
     int iters = w->def.position_iterations;
     if (iters == 0) {
-        for (int q = 0; q < w->awake_count; q++) w->bodies[w->awake[q]].motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET);
+        for (int q = 0; q < w->awake_count; q++)
+            w->bodies[w->awake[q]].motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
         return;
     }
     moved_set ms = {w->wake_list, w->scratch_r, 0};
@@ -847,9 +849,9 @@ static void correct_after_move(nt_world *w)
     for (int q = 0; q < w->awake_count; q++) {
         int32_t i = w->awake[q];
         nt__body *b = &w->bodies[i];
-        if (!(b->motion & (NT__MF_KICKED | NT__MF_MET))) continue;
+        if (!(b->motion & (NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK))) continue;
         int kicked = (b->motion & NT__MF_KICKED) != 0;
-        b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET);
+        b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
         if (inq[i] == 0) {
             inq[i] = 1;
             queue[tail] = i;
@@ -1190,6 +1192,18 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         /* Tiles have the last word: no velocity into a surface after the solve. */
         for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
         if (w->leveled) shock_pass(w);
+        /* Pairs the iterations left closing by more than half the base margin over the
+         * step (a tall column under a heavy impact): the correction after the move
+         * looks at their bodies' contacts. */
+        nt_real slack = R(0.5) * w->pair_margin / dt;
+        for (int k = 0; k < w->con_count; k++) {
+            const nt__contact *c = &w->con[k];
+            if (c->meff <= 0) continue;
+            if (!(nt__dot(nt__sub(sv[c->sb].v, sv[c->sa].v), c->n) < c->bias - slack)) continue;
+            w->bodies[key_a(c->key)].motion |= NT__MF_RECHECK;
+            w->bodies[key_b(c->key)].motion |= NT__MF_RECHECK;
+            w->kicked_count++;
+        }
     }
     /* Back to the bodies: velocities (of every solver body: one that does not move
      * received zero impulses, which can still turn a -0 into +0, as on the bodies)
