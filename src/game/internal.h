@@ -22,7 +22,6 @@ typedef struct player_state {
     int since_wall;      /* ticks since it last touched a wall */
     int wall_away;       /* +1: the last wall was on the left (jump right); -1: on the right */
     bool on_floor, wall_left, wall_right; /* sensed after the last step */
-    nt_vec2 normal;      /* the floor's normal when on_floor */
     nt_vec2 vel;         /* the controller's velocity, relative to the floor body stood on */
     nt_real run;         /* the run speed along floors */
     nt_vec2 shown;       /* the velocity given to the body after the step (world frame) */

@@ -50,7 +50,6 @@ void nt__player_sense(nt_game *g)
     player_state *ps = &g->ps;
     nt_vec2 pos = nt_body_get_position(w, id);
     ps->on_floor = ps->move.on_floor;
-    ps->normal = ps->on_floor ? ps->move.floor_normal : nt_v2(0, -1);
     ps->wall_left = wall_at(g, id, pos, -1);
     ps->wall_right = wall_at(g, id, pos, 1);
     if (ps->on_floor) ps->since_floor = 0;
