@@ -87,6 +87,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     if (!def) return NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(def->cell_size)) return NT_ERR_NON_FINITE;
     if (def->cell_size <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (def->cell_size < (nt_real)NT_MIN_CELL_SIZE || def->cell_size > (nt_real)NT_MAX_CELL_SIZE) return NT_ERR_OUT_OF_RANGE;
     if (def->width < 1 || def->height < 1 || def->width > NT_MAP_MAX_SIDE || def->height > NT_MAP_MAX_SIDE)
         return NT_ERR_OUT_OF_RANGE;
     nt_map *m = (nt_map *)nt__alloc(sizeof *m);

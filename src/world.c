@@ -76,6 +76,14 @@ nt_world_def nt_default_world_def(void)
     return d;
 }
 
+/* Gravity within NT_MAX_GRAVITY per part (finite checked first). */
+static int gravity_in_range(nt_vec2 g)
+{
+    return nt__fabs(g.x) <= (nt_real)NT_MAX_GRAVITY && nt__fabs(g.y) <= (nt_real)NT_MAX_GRAVITY;
+}
+
+static int gravity_scale_in_range(nt_real s) { return nt__fabs(s) <= (nt_real)NT_MAX_GRAVITY_SCALE; }
+
 static nt_status check_world_def(const nt_world_def *d)
 {
     if (!finite2(d->gravity) || !nt__finite(d->restitution_threshold) || !nt__finite(d->hit_event_threshold) ||
@@ -88,6 +96,7 @@ static nt_status check_world_def(const nt_world_def *d)
     if (s != NT_OK) return s;
     if (d->restitution_threshold < 0 || d->hit_event_threshold < 0 || d->sleep_speed < 0 || d->sleep_time < 0)
         return NT_ERR_INVALID_ARGUMENT;
+    if (!gravity_in_range(d->gravity)) return NT_ERR_OUT_OF_RANGE;
     if (d->max_cells_per_step < 1 || d->max_cells_per_step > 16) return NT_ERR_OUT_OF_RANGE;
     if (d->velocity_iterations < 1 || d->velocity_iterations > 64) return NT_ERR_OUT_OF_RANGE;
     if (d->position_iterations < 0 || d->position_iterations > 64) return NT_ERR_OUT_OF_RANGE;
@@ -227,6 +236,7 @@ nt_status nt_world_step(nt_world *w, nt_real dt)
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(dt)) return NT_ERR_NON_FINITE;
     if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (dt < (nt_real)NT_MIN_DT || dt > (nt_real)NT_MAX_DT) return NT_ERR_OUT_OF_RANGE;
     return nt__step(w, dt);
 }
 
@@ -270,6 +280,7 @@ nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
 {
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!finite2(g)) return NT_ERR_NON_FINITE;
+    if (!gravity_in_range(g)) return NT_ERR_OUT_OF_RANGE;
     w->def.gravity = g;
     wake_all(w);
     return NT_OK;
@@ -682,6 +693,7 @@ static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
      * well scaled in float. */
     if (d->type == NT_BODY_DYNAMIC && !(d->mass >= NT_MIN_MASS && d->mass <= NT_MAX_MASS)) return NT_ERR_OUT_OF_RANGE;
     if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
+    if (!gravity_scale_in_range(d->gravity_scale)) return NT_ERR_OUT_OF_RANGE;
     return NT_OK;
 }
 
@@ -943,6 +955,7 @@ nt_status nt_body_set_gravity_scale(nt_world *w, nt_body_id id, nt_real scale)
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(scale)) return NT_ERR_NON_FINITE;
+    if (!gravity_scale_in_range(scale)) return NT_ERR_OUT_OF_RANGE;
     b->gravity_scale = scale;
     nt__wake(w, id.index1 - 1);
     return NT_OK;

@@ -30,6 +30,12 @@ extern "C" {
 /// can be up to 8 cells across. Larger shapes are refused with NT_ERR_SHAPE_TOO_LARGE.
 #define NT_MAX_HALF_CELLS 4
 
+/// Smallest and largest cell size (world units; NT_ERR_OUT_OF_RANGE outside, maps,
+/// worlds and levels alike): speeds, gravity and squared distances in cell units stay
+/// well inside float's range (a denormal cell size put bodies outside the map).
+#define NT_MIN_CELL_SIZE 1e-3f
+#define NT_MAX_CELL_SIZE 1e6f
+
 typedef struct nt_map nt_map;
 
 /// Edge states, as in N.
@@ -39,13 +45,15 @@ typedef enum nt_edge { NT_EDGE_OFF = 0, NT_EDGE_SOLID = 1, NT_EDGE_INTERESTING =
 typedef struct nt_map_def {
     int width;          ///< cells, 1..NT_MAP_MAX_SIDE
     int height;         ///< cells, 1..NT_MAP_MAX_SIDE
-    nt_real cell_size;  ///< world units per cell, finite and > 0
+    nt_real cell_size;  ///< world units per cell, in [NT_MIN_CELL_SIZE, NT_MAX_CELL_SIZE]
 } nt_map_def;
 
 /// Default map definition: 31 x 23 cells of size 24 (N's playable area), all EMPTY.
 nt_map_def nt_default_map_def(void);
 
-/// Create an empty map. On failure *out is set to NULL.
+/// Create an empty map. Errors: NT_ERR_NON_FINITE, NT_ERR_INVALID_ARGUMENT (cell size <= 0),
+/// NT_ERR_OUT_OF_RANGE (a side outside 1..NT_MAP_MAX_SIDE, a cell size outside
+/// [NT_MIN_CELL_SIZE, NT_MAX_CELL_SIZE]), NT_ERR_OUT_OF_MEMORY. On failure *out is set to NULL.
 nt_status nt_map_create(const nt_map_def *def, nt_map **out);
 
 /// Destroy a map (NULL is ignored).

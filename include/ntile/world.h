@@ -115,6 +115,19 @@ typedef struct nt_material {
 #define NT_MIN_MASS 1e-12f
 #define NT_MAX_MASS 1e12f
 
+/// A step's dt must lie in [NT_MIN_DT, NT_MAX_DT] seconds (else NT_ERR_OUT_OF_RANGE), in
+/// nt_world_step, the game layer, replays and the CLI alike: the solver divides by dt
+/// and scales warm-started impulses by the ratio of consecutive dts.
+#define NT_MIN_DT 1e-6f
+#define NT_MAX_DT 1.0f
+
+/// Each component of the world's gravity must lie in [-NT_MAX_GRAVITY, NT_MAX_GRAVITY]
+/// world units / s^2, and a body's gravity scale in [-NT_MAX_GRAVITY_SCALE,
+/// NT_MAX_GRAVITY_SCALE] (else NT_ERR_OUT_OF_RANGE): their product times NT_MAX_DT and
+/// its square stay finite in float (huge finite gravity used to launch resting bodies).
+#define NT_MAX_GRAVITY 1e12f
+#define NT_MAX_GRAVITY_SCALE 1e6f
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -126,7 +139,7 @@ typedef struct nt_material {
 /// World definition: fill with nt_default_world_def() then adjust.
 typedef struct nt_world_def {
     nt_map_def map;                   ///< the tile map (all EMPTY at creation)
-    nt_vec2 gravity;                  ///< world units / s^2; y down
+    nt_vec2 gravity;                  ///< world units / s^2; y down; each part within NT_MAX_GRAVITY
     nt_friction_model friction_model; ///< for every contact of the world
     nt_material tile_material;        ///< material 0, used by every cell until told otherwise
     nt_real restitution_threshold;    ///< approach speeds below this do not bounce (units/s, >= 0)
@@ -148,13 +161,17 @@ typedef struct nt_world_def {
 /// and 4 position iterations. Speeds are world units: scale them with cell_size.
 nt_world_def nt_default_world_def(void);
 
-/// Create a world. On failure *out is NULL.
+/// Create a world. Errors: NT_ERR_NON_FINITE, NT_ERR_INVALID_ARGUMENT, NT_ERR_OUT_OF_RANGE
+/// (a map the map refuses, gravity beyond NT_MAX_GRAVITY, iterations or speed limit out of
+/// range), NT_ERR_OUT_OF_MEMORY. On failure *out is NULL.
 nt_status nt_world_create(const nt_world_def *def, nt_world **out);
 
 /// Destroy a world and every body in it (NULL is ignored).
 void nt_world_destroy(nt_world *world);
 
-/// Advance the world by dt seconds (finite, > 0). Events of the previous step are discarded.
+/// Advance the world by dt seconds, dt in [NT_MIN_DT, NT_MAX_DT] (NT_ERR_NON_FINITE,
+/// NT_ERR_INVALID_ARGUMENT for dt <= 0, NT_ERR_OUT_OF_RANGE otherwise; the world is then
+/// unchanged). Events of the previous step are discarded. Static bodies never get a velocity.
 nt_status nt_world_step(nt_world *world, nt_real dt);
 
 /// The world's tile map, for map queries. Change tiles through the world.
@@ -187,7 +204,7 @@ nt_status nt_world_set_cell_flags(nt_world *world, int x, int y, uint32_t flags)
 /// A cell's flags (0 outside the map).
 uint32_t nt_world_get_cell_flags(const nt_world *world, int x, int y);
 
-/// Change gravity (finite); wakes every body.
+/// Change gravity (finite, each part within NT_MAX_GRAVITY, else NT_ERR_OUT_OF_RANGE); wakes every body.
 nt_status nt_world_set_gravity(nt_world *world, nt_vec2 gravity);
 
 /// The world's gravity.
@@ -248,7 +265,7 @@ typedef struct nt_body_def {
     nt_vec2 position;      ///< centre
     nt_vec2 velocity;      ///< units/s (ignored for static bodies)
     nt_real mass;          ///< > 0 for dynamic bodies; ignored otherwise
-    nt_real gravity_scale; ///< multiplies the world's gravity
+    nt_real gravity_scale; ///< multiplies the world's gravity; within NT_MAX_GRAVITY_SCALE
     nt_real linear_drag;   ///< >= 0: v *= 1 / (1 + drag * dt) each step
     nt_material material;  ///< default {0.05, 0.3} (N's values)
     uint32_t category;     ///< bits this body is (default 1)
@@ -269,7 +286,7 @@ nt_body_def nt_default_body_def(void);
 /// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
 /// NT_MAX_HALF_CELLS cells), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS
 /// from the map; a body above half a cell not wholly inside the map; a dynamic body's mass
-/// outside [NT_MIN_MASS, NT_MAX_MASS]), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
+/// outside [NT_MIN_MASS, NT_MAX_MASS]; a gravity scale beyond NT_MAX_GRAVITY_SCALE), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
 /// unequal halves, mass <= 0 for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
 /// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
@@ -312,7 +329,7 @@ nt_material nt_body_get_material(const nt_world *world, nt_body_id id);
 /// Set the body's material (checked against the world's friction model).
 nt_status nt_body_set_material(nt_world *world, nt_body_id id, nt_material material);
 
-/// Set gravity scale (finite).
+/// Set gravity scale (finite, within NT_MAX_GRAVITY_SCALE, else NT_ERR_OUT_OF_RANGE).
 nt_status nt_body_set_gravity_scale(nt_world *world, nt_body_id id, nt_real scale);
 
 /// Set linear drag (finite, >= 0).

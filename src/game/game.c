@@ -562,6 +562,7 @@ nt_status nt_game_step(nt_game *g, uint32_t keys, nt_real dt)
     if (!g) return NT_ERR_INVALID_ARGUMENT;
     if (!isfinite(dt)) return NT_ERR_NON_FINITE;
     if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (dt < (nt_real)NT_MIN_DT || dt > (nt_real)NT_MAX_DT) return NT_ERR_OUT_OF_RANGE;
     uint32_t pressed = keys & ~g->prev_keys;
     g->tick++;
     move_path_bodies(g, dt);

@@ -502,7 +502,8 @@ int cli_run(int argc, char **argv)
             } else if (strcmp(a, "--dt") == 0) {
                 char *end;
                 double d = strtod(val, &end);
-                if (end == val || *end || !(d > 0) || d > 1e6) status = usage_error("--dt needs a positive number of seconds, got '%s'", val);
+                if (end == val || *end || !((nt_real)d >= (nt_real)NT_MIN_DT && (nt_real)d <= (nt_real)NT_MAX_DT))
+                    status = usage_error("--dt needs a number of seconds in 1e-06 .. 1 (NT_MIN_DT .. NT_MAX_DT), got '%s'", val);
                 dt = (nt_real)d;
             } else {
                 if (strcmp(val, "n") == 0) model = NT_FRICTION_N;
