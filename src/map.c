@@ -1166,15 +1166,26 @@ NT__NOINLINE static bool resolve_big(const nt_map *map, nt_vec2 p, nt_shape shap
     return true;
 }
 
+nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
+{
+    if (!map) return NT_ERR_INVALID_ARGUMENT;
+    if (shape.type != NT_SHAPE_AABB && shape.type != NT_SHAPE_CIRCLE) return NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(shape.half.x) || !nt__finite(shape.half.y)) return NT_ERR_NON_FINITE;
+    if (shape.half.x < 0 || shape.half.y < 0) return NT_ERR_INVALID_ARGUMENT;
+    nt_real cap = map->cell * R(NT_MAX_HALF_CELLS);
+    if (shape.half.x > cap || shape.half.y > cap) return NT_ERR_SHAPE_TOO_LARGE;
+    return NT_OK;
+}
+
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
     nt_resolution res;
     memset(&res, 0, sizeof res);
+    /* Refused before any loop, whatever the assert hook answers: a half-size of 1e30
+     * let through by a hook that carries on walked cells for a very long time. */
+    res.status = nt_map_check_shape(map, shape);
     if (out) *out = res;
-    NT_ASSERT(map != NULL);
-    if (!map) return false;
-    NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(NT_MAX_HALF_CELLS) &&
-              shape.half.y <= map->cell * R(NT_MAX_HALF_CELLS));
+    if (res.status != NT_OK) return false;
     nt_real ic = map->inv_cell, cell = map->cell;
     nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
@@ -1284,7 +1295,7 @@ int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_
 
 nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape)
 {
-    if (!map) return 0;
+    if (nt_map_check_shape(map, shape) != NT_OK) return 0;
     nt_real ic = map->inv_cell;
     nt_vec2 p = nt_v2(pos.x * ic, pos.y * ic);
     if (!nt__finite(p.x) || !nt__finite(p.y)) return 0;

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "ntile/ntile.h"
 
@@ -167,6 +168,52 @@ static void test_replay_dt_range(void **state)
     nt_replay_destroy(rp);
 }
 
+/* ---------------------------------------------------------------- 2. oversize shapes */
+
+static int g_asserts;
+static int carry_on(const char *condition, const char *file, int line)
+{
+    (void)condition, (void)file, (void)line;
+    g_asserts++;
+    return 0;
+}
+
+/* nt_map_resolve and nt_map_overlap_depth refuse a half-size of 1e30 before any loop
+ * even when the assert hook says carry on (they walked the cells for a very long time:
+ * alarm() ends the test if they still do). */
+static void test_oversize_shapes(void **state)
+{
+    (void)state;
+    nt_map_def md = nt_default_map_def();
+    nt_map *m = NULL;
+    assert_int_equal(nt_map_create(&md, &m), NT_OK);
+    for (int x = 0; x < md.width; x++) assert_int_equal(nt_map_set_tile(m, x, md.height - 1, NT_TILE_FULL), NT_OK);
+    nt_set_assert_fn(carry_on);
+    alarm(20);
+    const nt_shape bad[] = {nt_shape_aabb(R(1e30), R(1e30)), nt_shape_circle(R(1e30)), nt_shape_aabb(R(96.5), 1),
+                            nt_shape_aabb(-1, 1), nt_shape_aabb((nt_real)NAN, 1)};
+    const nt_status why[] = {NT_ERR_SHAPE_TOO_LARGE, NT_ERR_SHAPE_TOO_LARGE, NT_ERR_SHAPE_TOO_LARGE,
+                             NT_ERR_INVALID_ARGUMENT, NT_ERR_NON_FINITE};
+    for (int k = 0; k < 5; k++) {
+        nt_resolution res;
+        assert_int_equal(nt_map_check_shape(m, bad[k]), why[k]);
+        assert_false(nt_map_resolve(m, nt_v2(100, 540), bad[k], &res));
+        assert_int_equal(res.status, why[k]);
+        assert_true(res.push.x == 0 && res.push.y == 0 && res.contact_count == 0);
+        assert_true(nt_map_overlap_depth(m, nt_v2(100, 540), bad[k]) == 0);
+    }
+    /* The largest legal shape still resolves (4 cells of 24, sunk into the floor). */
+    nt_resolution res;
+    assert_true(nt_map_resolve(m, nt_v2(300, 500), nt_shape_aabb(96, 96), &res));
+    assert_int_equal(res.status, NT_OK);
+    assert_true(res.push.y < 0);
+    assert_true(nt_map_overlap_depth(m, nt_v2(300, 500), nt_shape_aabb(96, 96)) > 0);
+    alarm(0);
+    nt_set_assert_fn(NULL);
+    assert_int_equal(g_asserts, 0);
+    nt_map_destroy(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -174,6 +221,7 @@ int main(void)
         cmocka_unit_test(test_static_keeps_zero_velocity),
         cmocka_unit_test(test_cell_size_range),
         cmocka_unit_test(test_replay_dt_range),
+        cmocka_unit_test(test_oversize_shapes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -91,19 +91,27 @@ typedef struct nt_resolution {
     nt_vec2 push;                 ///< displacement that frees the object, world units
     int contact_count;            ///< 0, 1 or 2 surfaces that define the push
     nt_tile_contact contacts[2];
+    nt_status status;             ///< NT_OK, or why the shape was refused (see nt_map_check_shape)
 } nt_resolution;
+
+/// Whether the map's queries accept this shape: NT_ERR_INVALID_ARGUMENT (NULL map,
+/// unknown shape type, negative half-size), NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE
+/// (half-size or radius above NT_MAX_HALF_CELLS cells), else NT_OK.
+nt_status nt_map_check_shape(const nt_map *map, nt_shape shape);
 
 /// Compute the displacement that frees a box or circle (centre `pos`, world units)
 /// from every tile of the map: the shortest way out of the union of the tiles. Seams
 /// between solid tiles never push. Returns false (and a zero result) when the object
-/// overlaps nothing. The half-size (or radius) must be at most NT_MAX_HALF_CELLS cells
-/// (checked by the callers that accept user input; here it is an assertion). Objects
+/// overlaps nothing. A shape nt_map_check_shape refuses (half-size above
+/// NT_MAX_HALF_CELLS cells, say) is refused before any work, whatever the assert hook
+/// does: false, a zero push, and the reason in out->status. Objects
 /// up to half a cell take the fast path; larger ones cost more: a long box on a floor
 /// stays cheap (one push for all the tiles under it), a box wedged in a corner or sunk
 /// deep in a mass of tiles searches the boundary curves within reach of its depth.
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out);
 
-/// Largest single-tile penetration depth (world units) of the object at `pos`; 0 when free.
+/// Largest single-tile penetration depth (world units) of the object at `pos`; 0 when free,
+/// and 0 without any work for a shape nt_map_check_shape refuses.
 nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape);
 
 /// A ray-cast result.
