@@ -140,7 +140,13 @@ struct nt_map {
      * an object centred in it (at most half a cell) touches nothing. Small enough to
      * stay in L1 for big maps: the test every body in the air makes each step. */
     uint64_t *open3;
+    /* Per block of NT__BLOCK x NT__BLOCK cells (bw x bh blocks): how many of its cells
+     * are EMPTY, and how many are not FULL. The escape searches skip what holds
+     * nothing they look for, so their work is bounded in solid masses. */
+    int bw, bh;
+    uint8_t *blk_empty, *blk_open;
 };
+#define NT__BLOCK 8
 
 /* (x, y) is a cell of the map: one unsigned comparison per axis (w, h > 0). */
 static inline int nt__map_in(const nt_map *map, int x, int y)
