@@ -374,6 +374,7 @@ struct nt_world {
     int sort_cap;
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
+    int pairs_over; /* the last pair search stopped at NT_MAX_CONTACTS */
     /* Parked contacts (both bodies asleep or static) keep their slots until the array
      * is compacted; each body chains the slots that name it (nt__body_cold.park_head),
      * so waking a group costs its own contacts, not every parked one. */

@@ -282,6 +282,41 @@ static void test_solid_mass_bounded(void **state)
     assert_true(t_hole < 1.0);
 }
 
+/* ---------------------------------------------------------------- 4. piles at one point */
+
+/* 20,000 bodies created at one point (200 million overlapping pairs: the step never
+ * finished and reached 3.8 GB) make the step fail with NT_ERR_LIMIT at NT_MAX_CONTACTS,
+ * quickly and with the world unchanged; once most are gone the rest steps. */
+static void test_pile_at_one_point(void **state)
+{
+    (void)state;
+    nt_world_def d = nt_default_world_def();
+    d.map.width = d.map.height = 64;
+    nt_world *w = NULL;
+    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    enum { N = 20000 };
+    nt_body_id *ids = malloc(N * sizeof *ids);
+    assert_non_null(ids);
+    nt_body_def b = nt_default_body_def();
+    b.position = nt_v2(700, 700);
+    for (int i = 0; i < N; i++) assert_int_equal(nt_body_create(w, &b, &ids[i]), NT_OK);
+    uint64_t h = nt_world_hash(w);
+    double t0 = cpu_seconds();
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_ERR_LIMIT);
+        assert_true(nt_world_hash(w) == h);
+    }
+    double t = cpu_seconds() - t0;
+    fprintf(stderr, "20,000 bodies at one point: 2 refused steps in %.3f s\n", t);
+    assert_true(t < 10.0);
+    /* 1,000 at one point (half a million pairs) are within the cap: they step and spread. */
+    for (int i = 1000; i < N; i++) assert_int_equal(nt_body_destroy(w, ids[i]), NT_OK);
+    for (int k = 0; k < 3; k++) assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    assert_true(nt_world_hash(w) != h);
+    free(ids);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -291,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_replay_dt_range),
         cmocka_unit_test(test_oversize_shapes),
         cmocka_unit_test(test_solid_mass_bounded),
+        cmocka_unit_test(test_pile_at_one_point),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

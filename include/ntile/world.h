@@ -128,6 +128,12 @@ typedef struct nt_material {
 #define NT_MAX_GRAVITY 1e12f
 #define NT_MAX_GRAVITY_SCALE 1e6f
 
+/// Most body contacts (pairs within the contact margin, sensor overlaps included) a step
+/// may hold: a step that would find more (thousands of bodies piled at one point: 1,450
+/// overlapping bodies make a million pairs) returns NT_ERR_LIMIT before it changes
+/// anything, instead of exhausting memory (about 150 MB of contact arrays at the cap).
+#define NT_MAX_CONTACTS (1 << 20)
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -171,7 +177,9 @@ void nt_world_destroy(nt_world *world);
 
 /// Advance the world by dt seconds, dt in [NT_MIN_DT, NT_MAX_DT] (NT_ERR_NON_FINITE,
 /// NT_ERR_INVALID_ARGUMENT for dt <= 0, NT_ERR_OUT_OF_RANGE otherwise; the world is then
-/// unchanged). Events of the previous step are discarded. Static bodies never get a velocity.
+/// unchanged). NT_ERR_LIMIT: the step would hold more than NT_MAX_CONTACTS contacts (the
+/// world is unchanged; separate the bodies). Events of the previous step are discarded.
+/// Static bodies never get a velocity.
 nt_status nt_world_step(nt_world *world, nt_real dt);
 
 /// The world's tile map, for map queries. Change tiles through the world.
