@@ -64,6 +64,7 @@ static nt__character *char_of(const nt_world *w, nt_body_id id)
 
 nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def *def)
 {
+    NT__CHECK_LOCK(w);
     if (!w || !def) return NT_ERR_INVALID_ARGUMENT;
     if (id.index1 <= 0 || id.index1 > w->body_hwm) return NT_ERR_INVALID_ID;
     nt__body *b = &w->bodies[id.index1 - 1];
@@ -99,6 +100,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
 
 nt_status nt_character_destroy(nt_world *w, nt_body_id id)
 {
+    NT__CHECK_LOCK(w);
     nt__character *c = char_of(w, id);
     if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = c->body;
@@ -113,6 +115,7 @@ bool nt_character_is_valid(const nt_world *w, nt_body_id id) { return char_of(w,
 
 nt_status nt_character_drop_through(nt_world *w, nt_body_id id)
 {
+    NT__CHECK_LOCK(w);
     nt__character *c = char_of(w, id);
     if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     c->dropping = 1;
@@ -382,6 +385,7 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
 
 nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
 {
+    NT__CHECK_LOCK(w);
     /* The result is built in place (a copy of a struct just written field by field
      * stalls on store forwarding); *out is zero on every error, which all come first. */
     if (out) memset(out, 0, sizeof *out);

@@ -18,6 +18,7 @@ const char *nt_status_string(nt_status status)
     case NT_ERR_INVALID_ID: return "invalid or stale id";
     case NT_ERR_PARSE: return "parse error";
     case NT_ERR_LIMIT: return "limit reached";
+    case NT_ERR_LOCKED: return "world locked (called from inside a callback)";
     }
     return "unknown status";
 }

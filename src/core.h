@@ -148,6 +148,15 @@ struct nt_map {
 };
 #define NT__BLOCK 8
 
+/* Locking around user callbacks. The world is never a const object (it is allocated),
+ * so a const query may count its lock. */
+#define NT__LOCK(w) (((nt_world *)(w))->locked++)
+#define NT__UNLOCK(w) (((nt_world *)(w))->locked--)
+#define NT__CHECK_LOCK(w)                                                                                              \
+    do {                                                                                                               \
+        if ((w) && (w)->locked) return NT_ERR_LOCKED;                                                                  \
+    } while (0)
+
 /* (x, y) is a cell of the map: one unsigned comparison per axis (w, h > 0). */
 static inline int nt__map_in(const nt_map *map, int x, int y)
 {
@@ -375,6 +384,7 @@ struct nt_world {
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
     int pairs_over; /* the last pair search stopped at NT_MAX_CONTACTS */
+    int locked;     /* > 0 while a draw or query callback runs: mutating calls get NT_ERR_LOCKED */
     /* Parked contacts (both bodies asleep or static) keep their slots until the array
      * is compacted; each body chains the slots that name it (nt__body_cold.park_head),
      * so waking a group costs its own contacts, not every parked one. */

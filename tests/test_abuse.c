@@ -317,6 +317,127 @@ static void test_pile_at_one_point(void **state)
     nt_world_destroy(w);
 }
 
+/* ---------------------------------------------------------------- 5. locked world */
+
+typedef struct lock_probe {
+    nt_world *w;
+    nt_body_id id;
+    int calls, locked_seen, ok_seen;
+} lock_probe;
+
+/* Every mutating call the callback tries: each must say NT_ERR_LOCKED. */
+static void try_mutations(lock_probe *lp)
+{
+    nt_world *w = lp->w;
+    lp->calls++;
+    if (nt_world_is_locked(w)) lp->locked_seen++;
+    nt_body_def b = nt_default_body_def();
+    b.position = nt_v2(50, 50);
+    nt_body_id id;
+    nt_status s[20];
+    int n = 0;
+    s[n++] = nt_body_create(w, &b, &id);
+    s[n++] = nt_body_destroy(w, lp->id);
+    s[n++] = nt_world_step(w, R(1.0 / 40));
+    s[n++] = nt_world_set_tile(w, 1, 1, NT_TILE_FULL);
+    s[n++] = nt_world_set_gravity(w, nt_v2(0, 10));
+    s[n++] = nt_world_set_material(w, 1, nt_body_get_material(w, lp->id));
+    s[n++] = nt_world_set_cell_material(w, 1, 1, 1);
+    s[n++] = nt_world_set_cell_flags(w, 1, 1, NT_CELL_ONE_WAY);
+    s[n++] = nt_body_set_position(w, lp->id, nt_v2(60, 60));
+    s[n++] = nt_body_set_velocity(w, lp->id, nt_v2(1, 1));
+    s[n++] = nt_body_apply_impulse(w, lp->id, nt_v2(1, 1));
+    s[n++] = nt_body_set_gravity_scale(w, lp->id, 2);
+    s[n++] = nt_body_set_linear_drag(w, lp->id, 1);
+    s[n++] = nt_body_set_filter(w, lp->id, 2, 2);
+    s[n++] = nt_body_set_awake(w, lp->id, false);
+    s[n++] = nt_body_enable_sleep(w, lp->id, false);
+    s[n++] = nt_body_set_user_data(w, lp->id, lp);
+    s[n++] = nt_character_create(w, lp->id, NULL);
+    nt_world_destroy(w);        /* ignored */
+    nt_world_enable_profile(w, true); /* ignored */
+    for (int k = 0; k < n; k++)
+        if (s[k] == NT_ERR_LOCKED) lp->ok_seen++;
+        else fprintf(stderr, "mutation %d inside a callback: %s\n", k, nt_status_string(s[k]));
+}
+
+static void lock_draw_box(nt_vec2 lo, nt_vec2 hi, uint32_t color, void *context)
+{
+    (void)lo, (void)hi, (void)color;
+    try_mutations((lock_probe *)context);
+}
+
+static bool lock_query(nt_body_id id, void *context)
+{
+    (void)id;
+    try_mutations((lock_probe *)context);
+    return true;
+}
+
+static bool lock_accept(nt_body_id id, void *context)
+{
+    (void)id;
+    try_mutations((lock_probe *)context);
+    return true;
+}
+
+/* Creating or destroying a body from an nt_world_draw callback was a heap
+ * use-after-free (the body array grew or the slot was reused under the draw loop).
+ * Inside draw, query and accept callbacks every mutating call returns NT_ERR_LOCKED and
+ * changes nothing; after them the world is unlocked and works. */
+static void test_locked_in_callbacks(void **state)
+{
+    (void)state;
+    nt_world_def d = nt_default_world_def();
+    nt_world *w = NULL;
+    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    d.body_capacity = 1;
+    lock_probe lp;
+    memset(&lp, 0, sizeof lp);
+    lp.w = w;
+    nt_body_def b = nt_default_body_def();
+    nt_body_id ids[20];
+    for (int i = 0; i < 20; i++) {
+        b.position = nt_v2(R(30 + 20 * i), 100);
+        assert_int_equal(nt_body_create(w, &b, &ids[i]), NT_OK);
+    }
+    lp.id = ids[3];
+    for (int i = 0; i < 3; i++) assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    uint64_t h = nt_world_hash(w);
+    assert_false(nt_world_is_locked(w));
+
+    nt_debug_draw dd = nt_default_debug_draw();
+    dd.draw_box = lock_draw_box;
+    dd.context = &lp;
+    nt_world_draw(w, &dd);
+    assert_int_equal(lp.calls, 20);
+    int q = nt_world_overlap_aabb(w, nt_v2(0, 0), nt_v2(1000, 1000), nt_default_query_filter(), lock_query, &lp);
+    assert_int_equal(q, 20);
+    q = nt_world_query_point(w, nt_v2(30, 100), nt_default_query_filter(), lock_query, &lp);
+    assert_int_equal(q, 1);
+    assert_int_equal(lp.calls, 41);
+    nt_query_filter f = nt_default_query_filter();
+    f.accept = lock_accept;
+    f.accept_context = &lp;
+    nt_world_ray_hit rh;
+    assert_true(nt_world_raycast(w, nt_v2(0, 100), nt_v2(1000, 100), f, &rh));
+    nt_world_shape_hit sh;
+    assert_true(nt_world_cast_shape(w, nt_v2(0, 100), nt_shape_aabb(2, 2), nt_v2(1000, 0), f, &sh));
+    assert_true(lp.calls > 41);
+    assert_int_equal(lp.locked_seen, lp.calls);
+    assert_int_equal(lp.ok_seen, lp.calls * 18);
+    assert_false(nt_world_is_locked(w));
+    assert_true(nt_world_hash(w) == h);
+    assert_int_equal(nt_world_get_body_count(w), 20);
+    assert_true(nt_world_get_gravity(w).y == 320);
+    assert_int_equal(nt_world_get_tile(w, 1, 1), NT_TILE_EMPTY);
+
+    /* Unlocked again: the same calls work. */
+    assert_int_equal(nt_body_destroy(w, ids[3]), NT_OK);
+    assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +448,7 @@ int main(void)
         cmocka_unit_test(test_oversize_shapes),
         cmocka_unit_test(test_solid_mass_bounded),
         cmocka_unit_test(test_pile_at_one_point),
+        cmocka_unit_test(test_locked_in_callbacks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

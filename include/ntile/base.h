@@ -44,7 +44,8 @@ typedef enum nt_status {
     NT_ERR_OUT_OF_MEMORY = -5,    ///< the allocator returned NULL
     NT_ERR_INVALID_ID = -6,       ///< stale or never-issued handle
     NT_ERR_PARSE = -7,            ///< malformed text input
-    NT_ERR_LIMIT = -8             ///< a documented capacity limit was reached
+    NT_ERR_LIMIT = -8,            ///< a documented capacity limit was reached
+    NT_ERR_LOCKED = -9            ///< the world is locked: called from inside one of its callbacks
 } nt_status;
 
 /// A short English description of a status code ("ok", "non-finite number", ...).

@@ -557,8 +557,16 @@ typedef struct nt_debug_draw {
 /// No callbacks, no rays; tiles and bodies on, everything else off; projection_scale 1.
 nt_debug_draw nt_default_debug_draw(void);
 
-/// Draw the world through the callbacks.
+/// Draw the world through the callbacks. The world is locked while they run.
 void nt_world_draw(const nt_world *world, const nt_debug_draw *draw);
+
+/// True while the world runs one of its callbacks (nt_world_draw's, a query's nt_query_fn,
+/// a query filter's accept in ray casts, shape casts and overlap queries), as Box2D's
+/// b2World_IsLocked. Every call that would change the world made then (creating or
+/// destroying bodies, setters, tiles, materials, steps, characters) returns
+/// NT_ERR_LOCKED and changes nothing; nt_world_destroy and nt_world_enable_profile are
+/// ignored. Reading the world and nested queries are allowed.
+bool nt_world_is_locked(const nt_world *world);
 
 #ifdef __cplusplus
 }
