@@ -51,6 +51,9 @@ void nt__free(void *ptr)
     if (ptr) g_free(ptr, g_alloc_user);
 }
 
+void *nt_alloc(size_t size) { return nt__alloc(size); }
+void nt_free(void *ptr) { nt__free(ptr); }
+
 static int default_assert(const char *cond, const char *file, int line)
 {
     fprintf(stderr, "ntile: assertion failed: %s (%s:%d)\n", cond, file, line);

@@ -17,6 +17,8 @@
 #include <unistd.h>
 
 #include "ntile/ntile.h"
+#include "ntile/game.h"
+#include "failalloc.h"
 
 #define R(x) ((nt_real)(x))
 
@@ -438,6 +440,79 @@ static void test_locked_in_callbacks(void **state)
     nt_world_destroy(w);
 }
 
+/* ---------------------------------------------------------------- 6. failed game steps */
+
+static nt_level *load_level(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char buf[1 << 20];
+    size_t n = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    nt_level *lv = NULL;
+    nt_text_error e;
+    nt_status st = nt_level_parse(path, buf, n, &lv, &e);
+    if (st != NT_OK) fprintf(stderr, "%s\n", e.message);
+    assert_int_equal(st, NT_OK);
+    return lv;
+}
+
+static uint32_t scenario_keys(int t)
+{
+    uint32_t k = NT_INPUT_RIGHT;
+    if (t % 10 == 0) k |= NT_INPUT_ACTION;
+    if (t % 40 >= 20 && t % 40 < 30) k |= NT_INPUT_JUMP;
+    return k;
+}
+
+/* A failed nt_game_step left the game changed (the tick's paths, spawns and player move
+ * applied, the world step not). Now every failure leaves the game hash as it was, and
+ * stepping on afterwards ends exactly where a run without failures ends: checked with
+ * the allocator failing at every allocation index of the run, one index per run. */
+static void failed_steps_run(const char *path, int ticks)
+{
+    nt_level *lv = load_level(path);
+    nt_game_def gd = nt_default_game_def();
+    nt_game *g = NULL;
+    assert_int_equal(nt_game_create(lv, &gd, &g), NT_OK);
+    for (int t = 0; t < ticks; t++) assert_int_equal(nt_game_step(g, scenario_keys(t), R(1.0 / 40)), NT_OK);
+    uint64_t want = nt_game_hash(g);
+    nt_game_destroy(g);
+    int failures = 0;
+    for (long budget = 0;; budget++) {
+        assert_int_equal(nt_game_create(lv, &gd, &g), NT_OK);
+        failalloc_begin(budget);
+        int failed = 0;
+        for (int t = 0; t < ticks; t++) {
+            uint64_t before = nt_game_hash(g);
+            nt_status st = nt_game_step(g, scenario_keys(t), R(1.0 / 40));
+            if (st != NT_OK) {
+                assert_int_equal(st, NT_ERR_OUT_OF_MEMORY);
+                assert_true(nt_game_hash(g) == before);
+                assert_true(nt_game_hash(g) == before);
+                failalloc_end();
+                failed = 1;
+                failures++;
+                assert_int_equal(nt_game_step(g, scenario_keys(t), R(1.0 / 40)), NT_OK);
+            }
+        }
+        if (!failed) failalloc_end();
+        if (nt_game_hash(g) != want) fail_msg("%s: allocation %ld failing: the run ends elsewhere", path, budget);
+        nt_game_destroy(g);
+        if (!failed) break;
+    }
+    fprintf(stderr, "%s: %d failing allocation indices, each undone\n", path, failures);
+    assert_true(failures > 0);
+    nt_level_destroy(lv);
+}
+
+static void test_failed_game_step_undone(void **state)
+{
+    (void)state;
+    failed_steps_run("levels/pachinko.ntl", 150);
+    failed_steps_run("levels/ninja.ntl", 150);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -449,6 +524,7 @@ int main(void)
         cmocka_unit_test(test_solid_mass_bounded),
         cmocka_unit_test(test_pile_at_one_point),
         cmocka_unit_test(test_locked_in_callbacks),
+        cmocka_unit_test(test_failed_game_step_undone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -65,6 +65,13 @@ typedef void nt_free_fn(void *ptr, void *user);
 /// that allocated it only if the hook is not changed while objects are alive.
 void nt_set_allocator(nt_alloc_fn *alloc_fn, nt_free_fn *free_fn, void *user);
 
+/// Allocate size bytes through the allocation hook (NULL for size 0 or when it fails),
+/// for layers built on ntile (the game layer) whose memory should obey the same hook.
+void *nt_alloc(size_t size);
+
+/// Release memory from nt_alloc (NULL is ignored).
+void nt_free(void *ptr);
+
 /// Assert hook: called when an internal consistency check fails. Return non-zero to
 /// abort (the default), zero to carry on.
 typedef int nt_assert_fn(const char *condition, const char *file, int line);

@@ -48,6 +48,12 @@ struct nt_game {
     int tick, score, complete_tick, death_tick, spawned;
     bool complete, dead;
     bool has_score_or_kill; /* some region acts on bodies other than the player */
+    /* Undo of a step that fails (nt_alloc'd; reserved before the step changes anything). */
+    int *saved_spawn_counts;  /* per spawner */
+    nt_vec2 *saved_path_vel;  /* per path body, in record order */
+    int path_cap;
+    nt_body_id *touched;      /* apply_events' copy of the player's touches */
+    int touched_cap;
 };
 
 /* The record of a live body, or NULL. */
