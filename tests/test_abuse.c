@@ -19,6 +19,8 @@
 #include "ntile/ntile.h"
 #include "ntile/game.h"
 #include "failalloc.h"
+#include "child.h"
+#include "scratch.h"
 
 #define R(x) ((nt_real)(x))
 
@@ -513,6 +515,76 @@ static void test_failed_game_step_undone(void **state)
     failed_steps_run("levels/ninja.ntl", 150);
 }
 
+/* ---------------------------------------------------------------- 7. files */
+
+static int has_text(const child_result *r, const char *text)
+{
+    return (r->out && strstr(r->out, text)) || (r->err && strstr(r->err, text));
+}
+
+static void set_dummy_video(void *ctx)
+{
+    (void)ctx;
+    setenv("SDL_VIDEODRIVER", "dummy", 1);
+}
+
+/* A replay naming /dev/zero as its level was read without limit (never returned); a
+ * directory gave a bare read error. The CLI and the playground refuse both, naming
+ * the path. */
+static void test_non_regular_files(void **state)
+{
+    (void)state;
+    const char *ntile = child_ntile();
+    scratch_write_text("zero.ntr", "ntile-replay 1\nlevel /dev/zero\nticks 10\n");
+    scratch_write_text("dir.ntr", "ntile-replay 1\nlevel .\nticks 10\n");
+    child_result r;
+    const char *a1[] = {"run", scratch_path("zero.ntr"), NULL};
+    child_run(&r, scratch_dir(), ntile, a1, NULL, NULL, 2);
+    assert_int_equal(r.status, 1);
+    assert_true(has_text(&r, "'/dev/zero' is not a regular file"));
+    child_free(&r);
+    const char *a2[] = {"run", scratch_path("dir.ntr"), NULL};
+    child_run(&r, scratch_dir(), ntile, a2, NULL, NULL, 2);
+    assert_int_equal(r.status, 1);
+    assert_true(has_text(&r, "is a directory"));
+    child_free(&r);
+    const char *a3[] = {"run", scratch_dir(), NULL};
+    child_run(&r, scratch_dir(), ntile, a3, NULL, NULL, 2);
+    assert_int_equal(r.status, 1);
+    assert_true(has_text(&r, "is a directory"));
+    assert_true(has_text(&r, scratch_dir()));
+    child_free(&r);
+
+    const char *play = getenv("NTILE_PLAY");
+    if (!play || !*play) {
+        print_message("playground not built: its file checks skipped\n");
+        return;
+    }
+    const char *p1[] = {"/dev/zero", "--frames", "2", NULL};
+    child_run(&r, scratch_dir(), play, p1, set_dummy_video, NULL, 99);
+    assert_true(r.status != 0);
+    assert_true(has_text(&r, "'/dev/zero' is not a regular file"));
+    child_free(&r);
+    const char *p2[] = {"--replay", scratch_path("zero.ntr"), "--frames", "2", NULL};
+    child_run(&r, scratch_dir(), play, p2, set_dummy_video, NULL, 99);
+    assert_true(r.status != 0);
+    assert_true(has_text(&r, "'/dev/zero' is not a regular file"));
+    child_free(&r);
+}
+
+static int group_setup(void **state)
+{
+    (void)state;
+    return scratch_create("abuse");
+}
+
+static int group_teardown(void **state)
+{
+    (void)state;
+    scratch_remove();
+    return 0;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -525,6 +597,7 @@ int main(void)
         cmocka_unit_test(test_pile_at_one_point),
         cmocka_unit_test(test_locked_in_callbacks),
         cmocka_unit_test(test_failed_game_step_undone),
+        cmocka_unit_test(test_non_regular_files),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
