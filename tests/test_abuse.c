@@ -572,6 +572,35 @@ static void test_non_regular_files(void **state)
     child_free(&r);
 }
 
+/* ---------------------------------------------------------------- 8. byte order marks */
+
+/* A UTF-8 byte order mark at the start of a level or a replay is skipped (it made the
+ * header line unknown); errors on the first line count columns after it. */
+static void test_bom_in_text_formats(void **state)
+{
+    (void)state;
+    const char *lvl = "\xef\xbb\xbfntile-level 1\nsize 3 2\ntiles\n|#.#|\n|###|\n";
+    nt_level *lv = NULL;
+    nt_text_error e;
+    nt_status st = nt_level_parse("t.ntl", lvl, strlen(lvl), &lv, &e);
+    if (st != NT_OK) fail_msg("%s", e.message);
+    assert_int_equal(lv->tiles[1], NT_TILE_EMPTY);
+    assert_int_equal(lv->tiles[0], NT_TILE_FULL);
+    nt_level_destroy(lv);
+    const char *rp_text = "\xef\xbb\xbfntile-replay 1\nlevel x.ntl\nticks 10\n";
+    nt_replay *rp = NULL;
+    st = nt_replay_parse("t.ntr", rp_text, strlen(rp_text), &rp, &e);
+    if (st != NT_OK) fail_msg("%s", e.message);
+    nt_replay_destroy(rp);
+    const char *bad = "\xef\xbb\xbfntile-level 9\n";
+    assert_int_equal(nt_level_parse("t.ntl", bad, strlen(bad), &lv, &e), NT_ERR_PARSE);
+    assert_int_equal(e.line, 1);
+    assert_true(e.column < 20);
+    /* Only at the very start: a BOM anywhere else is text like any other. */
+    const char *late = "ntile-level 1\n\xef\xbb\xbfsize 3 2\ntiles\n|#.#|\n|###|\n";
+    assert_int_equal(nt_level_parse("t.ntl", late, strlen(late), &lv, &e), NT_ERR_PARSE);
+}
+
 static int group_setup(void **state)
 {
     (void)state;
@@ -598,6 +627,7 @@ int main(void)
         cmocka_unit_test(test_locked_in_callbacks),
         cmocka_unit_test(test_failed_game_step_undone),
         cmocka_unit_test(test_non_regular_files),
+        cmocka_unit_test(test_bom_in_text_formats),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

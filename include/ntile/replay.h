@@ -113,6 +113,7 @@ nt_status nt_replay_create(int ticks, nt_replay **out);
 void nt_replay_destroy(nt_replay *replay);
 
 /// Parse a .ntr text; on failure *out is NULL and `error` says where and why.
+/// A UTF-8 byte order mark at the start of the text is skipped.
 nt_status nt_replay_parse(const char *name, const char *text, size_t length, nt_replay **out, nt_text_error *error);
 
 /// Write the canonical .ntr text (same contract as nt_level_write).
