@@ -48,8 +48,9 @@ static nt_status check_def(const nt_character_def *d)
 static void set_angle(nt__character *c)
 {
     double a = (double)c->def.floor_angle;
-    c->floor_cos = (nt_real)cos(a);
-    c->floor_tan = (nt_real)(a < 1.5083775167989393 ? tan(a) : 16.0); /* tan(86.4 deg) = 16 */
+    nt_cos_sin cs = nt_compute_cos_sin(a);
+    c->floor_cos = (nt_real)cs.cosine;
+    c->floor_tan = (nt_real)(a < 1.5083775167989393 ? cs.sine / cs.cosine : 16.0); /* tan(86.4 deg) = 16 */
 }
 
 /* The character record of a live body, or NULL. */

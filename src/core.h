@@ -7,6 +7,13 @@
 #include <string.h>
 #include "ntile/ntile.h"
 
+/* Same inputs, same bits: arithmetic in the precision of its type. x87 code (32-bit x86
+ * without SSE) keeps excess precision and diverges from every other target's replays;
+ * the Makefile builds 32-bit x86 with -msse2 -mfpmath=sse. */
+#if defined(__FLT_EVAL_METHOD__) && __FLT_EVAL_METHOD__ != 0
+#error "ntile needs FLT_EVAL_METHOD 0 (no excess precision): on 32-bit x86 build with -msse2 -mfpmath=sse"
+#endif
+
 /* Everything declared here is internal: hidden from libntile.so's exports, and
  * reached without a trip through the global offset table (the narrow phase's
  * tables are read on every call). */

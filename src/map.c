@@ -768,7 +768,8 @@ static int search_directions(const nt_map *map, nt_vec2 p, nt_shape shape, nt_ve
     int found = 0;
     for (int k = 0; k < DIRS; k++) {
         nt_real a = (nt_real)k * R(6.283185307179586 / DIRS);
-        nt_real ux = (nt_real)cos((double)a), uy = (nt_real)sin((double)a);
+        nt_cos_sin cs = nt_compute_cos_sin((double)a);
+        nt_real ux = (nt_real)cs.cosine, uy = (nt_real)cs.sine;
         nt_real lo = 0, hi = -1;
         for (int s = 1; s <= STEPS; s++) {
             nt_real t = reach * (nt_real)s / STEPS;

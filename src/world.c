@@ -174,7 +174,7 @@ nt_status nt_world_create(const nt_world_def *def, nt_world **out)
         return s;
     }
     w->def = *def;
-    w->floor_cos = (nt_real)cos((double)def->floor_angle);
+    w->floor_cos = (nt_real)nt_compute_cos_sin((double)def->floor_angle).cosine;
     w->cell = w->map->cell;
     w->inv_cell = w->map->inv_cell;
     for (int i = 0; i < NT_MAX_MATERIALS; i++) w->materials[i] = def->tile_material;

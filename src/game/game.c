@@ -39,8 +39,9 @@ nt_vec2 nt_path_position(const nt_level_path *p, double time, double phase)
     if (p->mode == NT_PATH_ORBIT) {
         const double two_pi = 6.283185307179586;
         double a = two_pi * phase + time * (double)p->speed / (double)p->radius;
-        return nt_v2((nt_real)((double)p->center.x + (double)p->radius * cos(a)),
-                     (nt_real)((double)p->center.y + (double)p->radius * sin(a)));
+        nt_cos_sin cs = nt_compute_cos_sin(a); /* ntile's own: the same bits everywhere */
+        return nt_v2((nt_real)((double)p->center.x + (double)p->radius * cs.cosine),
+                     (nt_real)((double)p->center.y + (double)p->radius * cs.sine));
     }
     int n = p->point_count;
     if (n < 2) return n == 1 ? p->points[0] : nt_v2(0, 0);

@@ -5,6 +5,10 @@
 #include "ntile/character.h"
 #include "ntile/game.h"
 
+#if defined(__FLT_EVAL_METHOD__) && __FLT_EVAL_METHOD__ != 0
+#error "ntile needs FLT_EVAL_METHOD 0 (no excess precision): on 32-bit x86 build with -msse2 -mfpmath=sse"
+#endif
+
 /* What made a body. */
 enum { GB_LEVEL = 0, GB_PLAYER = 1, GB_SPAWNED = 2, GB_ADDED = 3 };
 
