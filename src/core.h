@@ -437,12 +437,14 @@ static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 #if NT_REAL_IS_DOUBLE
     uint64_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 52) <= 48 || (bits >> 52) >= 2047) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS * 8, ilogb(mag) + 1));
+    if ((bits >> 52) >= 2047) return nt__max(base, mag); /* not finite: no ilogb(inf) + 1 overflow */
+    if ((bits >> 52) <= 48) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS * 8, ilogb(mag) + 1));
     bits = ((bits >> 52) - 48) << 52;
 #else
     uint32_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 23) <= 19 || (bits >> 23) >= 255) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, ilogb(mag) + 1));
+    if ((bits >> 23) >= 255) return nt__max(base, mag); /* not finite: no ilogb(inf) + 1 overflow */
+    if ((bits >> 23) <= 19) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS * 8, ilogb(mag) + 1));
     bits = ((bits >> 23) - 19) << 23;
 #endif
     memcpy(&ulp8, &bits, sizeof ulp8);
