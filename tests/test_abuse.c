@@ -166,6 +166,17 @@ static void test_replay_dt_range(void **state)
         assert_null(rp);
         assert_string_equal(e.message, "t.ntr:3:4: dt must lie in 1e-06 .. 1 seconds");
     }
+    /* ntile --dt: the same range (it took 1e-45 and stopped at 1e6). */
+    const char *ntile = child_ntile();
+    const char *dts[] = {"1e-45", "3e38", "1.5"};
+    for (int k = 0; k < 3; k++) {
+        const char *args[] = {"run", "--level", "levels/ninja.ntl", "--ticks", "2", "--dt", dts[k], NULL};
+        child_result r;
+        child_run(&r, scratch_dir(), ntile, args, NULL, NULL, 99);
+        assert_true(r.status != 0);
+        assert_non_null(strstr(r.err, "--dt needs a number of seconds in 1e-06 .. 1"));
+        child_free(&r);
+    }
     const char *ok = "ntile-replay 1\nlevel x.ntl\ndt 1\nticks 10\n";
     nt_replay *rp = NULL;
     nt_text_error e;
