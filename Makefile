@@ -45,6 +45,13 @@ endif
 # is built position-independent (nobody interposes ntile's symbols).
 # -fno-math-errno: sqrt is one instruction, without a check for negative inputs
 # (ntile never reads errno; the results are the same bits).
+# 32-bit x86: x87 arithmetic keeps excess precision (results differ from every other
+# target, replays diverge): SSE2 arithmetic instead. src/core.h refuses to compile with
+# excess precision (__FLT_EVAL_METHOD__ != 0).
+X86_32 := $(shell printf '' | $(CC) $(CFLAGS) -dM -E -x c - 2>/dev/null | grep -c '__i386__ 1')
+ifeq ($(X86_32),1)
+DEFS += -msse2 -mfpmath=sse
+endif
 CFLAGS_ALL := -std=c11 $(OPT) $(SAN) $(WARN) -ffp-contract=off -fno-math-errno -fPIC -fno-semantic-interposition \
               -Iinclude $(DEFS) $(CFLAGS)
 LDFLAGS_ALL := $(SAN) $(LDFLAGS)
@@ -151,6 +158,11 @@ $(OBJ)/tools/ntile-play/%.o: tools/ntile-play/%.c | deps-cc
 $(PLAY_BIN): $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(SDL_LIBS) $(LIBS)
 
+# replay-check: replays and their hashes with only the libraries and libc (make
+# determinism's 32-bit x86 build, where Tiled's and cmocka's libraries are missing).
+$(BUILD)/replay-check: $(OBJ)/tools/replay-check/main.o $(GAME_LIB) $(BUILD)/libntile.a
+	$(CC) $(LDFLAGS_ALL) -o $@ $< $(GAME_LIB) $(BUILD)/libntile.a $(LIBS)
+
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
 # (test_bench also with the benchmark's metric, scene, outline, plot and character-scene code;
 # test_tiled with the Tiled importer).
@@ -197,7 +209,10 @@ valgrind:
 
 # The golden world hashes (test_world, and test_character's scripted run) and every replay's hashes (tests/replays/*.ntr,
 # one per scalar type) must come out of gcc and clang at -O0, -O2 and -O3, in both
-# scalar builds: each configuration is built and checked against the same goldens.
+# scalar builds: each configuration is built and checked against the same goldens. Then
+# 32-bit x86 with gcc -m32 (SSE2 arithmetic, see X86_32): the replays' hashes, through
+# replay-check, when gcc-multilib is installed or installable (skipped with a message
+# otherwise).
 DET_CCS ?= gcc clang
 DET_OPTS ?= -O0 -O2 -O3
 determinism:
@@ -211,7 +226,14 @@ determinism:
 	  done; \
 	  $$b/ntile run tests/replays/*.ntr > $$b/replays.log 2>&1 || { echo "replays FAILED"; cat $$b/replays.log; exit 1; }; \
 	  tail -1 $$b/replays.log; \
-	done; done; done
+	done; done; done; \
+	if tools/deps.sh multilib >/dev/null 2>&1; then for d in 0 1; do for o in -O0 -O2; do \
+	  b=build/det/gcc-m32$$o-$$d; \
+	  $(MAKE) --no-print-directory -s BUILD=$$b CC="gcc -m32" OPT=$$o NT_DOUBLE=$$d $$b/replay-check >/dev/null; \
+	  printf '%-6s %-4s %-6s ' gcc-m32 $$o $$( [ $$d = 1 ] && echo double || echo float ); \
+	  $$b/replay-check tests/replays/*.ntr > $$b/replays.log 2>&1 || { echo "replays FAILED"; cat $$b/replays.log; exit 1; }; \
+	  tail -1 $$b/replays.log; \
+	done; done; else echo "determinism: 32-bit x86 (gcc -m32) skipped: gcc-multilib is not installed and could not be (tools/deps.sh multilib)"; fi
 
 # libFuzzer harnesses (tests/fuzz/fuzz_*.c), built with clang and run FUZZ_SECONDS each
 # on their committed seed corpus (tests/fuzz/corpus/NAME); new inputs go to a scratch

@@ -995,7 +995,11 @@ bool nt_world_cast_shape(const nt_world *world, nt_vec2 pos, nt_shape shape, nt_
                          nt_query_filter filter, nt_world_shape_hit *out)
 {
     nt_world_shape_hit scratch;
-    return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, NULL, out ? out : &scratch);
+    if (!world) return nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, NULL, out ? out : &scratch);
+    NT__LOCK(world); /* the filter's accept callback */
+    bool hit = nt__world_cast_shape(world, pos, &shape, translation, &filter, 0, NULL, out ? out : &scratch);
+    NT__UNLOCK(world);
+    return hit;
 }
 
 /* The result is written in place, zero until a hit is known (a copy of a struct just

@@ -48,8 +48,9 @@ static nt_status check_def(const nt_character_def *d)
 static void set_angle(nt__character *c)
 {
     double a = (double)c->def.floor_angle;
-    c->floor_cos = (nt_real)cos(a);
-    c->floor_tan = (nt_real)(a < 1.5083775167989393 ? tan(a) : 16.0); /* tan(86.4 deg) = 16 */
+    nt_cos_sin cs = nt_compute_cos_sin(a);
+    c->floor_cos = (nt_real)cs.cosine;
+    c->floor_tan = (nt_real)(a < 1.5083775167989393 ? cs.sine / cs.cosine : 16.0); /* tan(86.4 deg) = 16 */
 }
 
 /* The character record of a live body, or NULL. */
@@ -64,6 +65,7 @@ static nt__character *char_of(const nt_world *w, nt_body_id id)
 
 nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def *def)
 {
+    NT__CHECK_LOCK(w);
     if (!w || !def) return NT_ERR_INVALID_ARGUMENT;
     if (id.index1 <= 0 || id.index1 > w->body_hwm) return NT_ERR_INVALID_ID;
     nt__body *b = &w->bodies[id.index1 - 1];
@@ -99,6 +101,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
 
 nt_status nt_character_destroy(nt_world *w, nt_body_id id)
 {
+    NT__CHECK_LOCK(w);
     nt__character *c = char_of(w, id);
     if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = c->body;
@@ -113,6 +116,7 @@ bool nt_character_is_valid(const nt_world *w, nt_body_id id) { return char_of(w,
 
 nt_status nt_character_drop_through(nt_world *w, nt_body_id id)
 {
+    NT__CHECK_LOCK(w);
     nt__character *c = char_of(w, id);
     if (!c) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     c->dropping = 1;
@@ -382,6 +386,7 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
 
 nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
 {
+    NT__CHECK_LOCK(w);
     /* The result is built in place (a copy of a struct just written field by field
      * stalls on store forwarding); *out is zero on every error, which all come first. */
     if (out) memset(out, 0, sizeof *out);

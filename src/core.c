@@ -1,6 +1,7 @@
 /* Status strings, the allocator hook and the assert hook. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include "core.h"
 
 #define CAP_TEXT_(n) #n
@@ -18,6 +19,7 @@ const char *nt_status_string(nt_status status)
     case NT_ERR_INVALID_ID: return "invalid or stale id";
     case NT_ERR_PARSE: return "parse error";
     case NT_ERR_LIMIT: return "limit reached";
+    case NT_ERR_LOCKED: return "world locked (called from inside a callback)";
     }
     return "unknown status";
 }
@@ -49,6 +51,60 @@ void nt__free(void *ptr)
 {
     if (ptr) g_free(ptr, g_alloc_user);
 }
+
+/* ---------------------------------------------------------------- cosine and sine
+ * fdlibm's kernels (Sun Microsystems, 1993: "Permission to use, copy, modify, and
+ * distribute this software is freely granted, provided that this notice is
+ * preserved"), on a reduced argument |r| <= pi/4 + a little, with a Cody-Waite
+ * reduction by pi/2 in three parts: no fused operations (the build forbids
+ * contraction), so the result is the same everywhere. */
+static double kernel_sin(double x)
+{
+    const double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03, S3 = -1.98412698298579493134e-04,
+                 S4 = 2.75573137070700676789e-06, S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+    double z = x * x, v = z * x;
+    double r = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    return x + v * (S1 + z * r);
+}
+
+static double kernel_cos(double x)
+{
+    const double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03, C3 = 2.48015872894767294178e-05,
+                 C4 = -2.75573143513906633035e-07, C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+    double z = x * x;
+    double r = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    double hz = 0.5 * z, w = 1.0 - hz;
+    return w + (((1.0 - w) - hz) + z * r);
+}
+
+nt_cos_sin nt_compute_cos_sin(double x)
+{
+    nt_cos_sin cs;
+    if (!isfinite(x)) {
+        cs.cosine = cs.sine = NAN;
+        return cs;
+    }
+    if (fabs(x) > 1e6) x = fmod(x, 6.283185307179586); /* exact: the same everywhere */
+    /* n = x / (pi/2) rounded to nearest (|n| < 2^20, so n * P1 is exact). */
+    const double inv_pio2 = 6.36619772367581382433e-01, P1 = 1.57079632673412561417e+00,
+                 P2 = 6.07710050630396597660e-11, P2T = 2.02226624879595063154e-21;
+    double fn = x * inv_pio2;
+    fn = fn >= 0 ? floor(fn + 0.5) : -floor(0.5 - fn);
+    long n = (long)fn;
+    double r = (x - fn * P1) - fn * P2;
+    r = r - fn * P2T;
+    double s = kernel_sin(r), c = kernel_cos(r);
+    switch (n & 3) {
+    case 0: cs.cosine = c, cs.sine = s; break;
+    case 1: cs.cosine = -s, cs.sine = c; break;
+    case 2: cs.cosine = -c, cs.sine = -s; break;
+    default: cs.cosine = s, cs.sine = -c; break;
+    }
+    return cs;
+}
+
+void *nt_alloc(size_t size) { return nt__alloc(size); }
+void nt_free(void *ptr) { nt__free(ptr); }
 
 static int default_assert(const char *cond, const char *file, int line)
 {

@@ -7,6 +7,13 @@
 #include <string.h>
 #include "ntile/ntile.h"
 
+/* Same inputs, same bits: arithmetic in the precision of its type. x87 code (32-bit x86
+ * without SSE) keeps excess precision and diverges from every other target's replays;
+ * the Makefile builds 32-bit x86 with -msse2 -mfpmath=sse. */
+#if defined(__FLT_EVAL_METHOD__) && __FLT_EVAL_METHOD__ != 0
+#error "ntile needs FLT_EVAL_METHOD 0 (no excess precision): on 32-bit x86 build with -msse2 -mfpmath=sse"
+#endif
+
 /* Everything declared here is internal: hidden from libntile.so's exports, and
  * reached without a trip through the global offset table (the narrow phase's
  * tables are read on every call). */
@@ -140,7 +147,22 @@ struct nt_map {
      * an object centred in it (at most half a cell) touches nothing. Small enough to
      * stay in L1 for big maps: the test every body in the air makes each step. */
     uint64_t *open3;
+    /* Per block of NT__BLOCK x NT__BLOCK cells (bw x bh blocks): how many of its cells
+     * are EMPTY, and how many are not FULL. The escape searches skip what holds
+     * nothing they look for, so their work is bounded in solid masses. */
+    int bw, bh;
+    uint8_t *blk_empty, *blk_open;
 };
+#define NT__BLOCK 8
+
+/* Locking around user callbacks. The world is never a const object (it is allocated),
+ * so a const query may count its lock. */
+#define NT__LOCK(w) (((nt_world *)(w))->locked++)
+#define NT__UNLOCK(w) (((nt_world *)(w))->locked--)
+#define NT__CHECK_LOCK(w)                                                                                              \
+    do {                                                                                                               \
+        if ((w) && (w)->locked) return NT_ERR_LOCKED;                                                                  \
+    } while (0)
 
 /* (x, y) is a cell of the map: one unsigned comparison per axis (w, h > 0). */
 static inline int nt__map_in(const nt_map *map, int x, int y)
@@ -371,6 +393,8 @@ struct nt_world {
     int sort_cap;
     int con_count, con_new_count, parked_count;
     int con_cap, con_new_cap, con_tmp_cap, parked_cap;
+    int pairs_over; /* the last pair search stopped at NT_MAX_CONTACTS */
+    int locked;     /* > 0 while a draw or query callback runs: mutating calls get NT_ERR_LOCKED */
     /* Parked contacts (both bodies asleep or static) keep their slots until the array
      * is compacted; each body chains the slots that name it (nt__body_cold.park_head),
      * so waking a group costs its own contacts, not every parked one. */
@@ -425,12 +449,14 @@ static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 #if NT_REAL_IS_DOUBLE
     uint64_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 52) <= 52 || (bits >> 52) >= 2047) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS, ilogb(mag)));
+    if ((bits >> 52) >= 2047) return nt__max(base, mag); /* not finite: no ilogb(inf) */
+    if ((bits >> 52) <= 52) return nt__max(base, (nt_real)ldexp(NT_REAL_EPS, ilogb(mag)));
     bits = ((bits >> 52) - 52) << 52;
 #else
     uint32_t bits;
     memcpy(&bits, &mag, sizeof bits);
-    if ((bits >> 23) <= 23 || (bits >> 23) >= 255) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS, ilogb(mag)));
+    if ((bits >> 23) >= 255) return nt__max(base, mag); /* not finite: no ilogb(inf) */
+    if ((bits >> 23) <= 23) return nt__max(base, (nt_real)ldexp((double)NT_REAL_EPS, ilogb(mag)));
     bits = ((bits >> 23) - 23) << 23;
 #endif
     memcpy(&ulp, &bits, sizeof ulp);

@@ -415,6 +415,10 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     /* Sensors only care about real overlap. */
     if (!pair_depth(ba, bb, a, b, sensor ? 0 : margin, &n, &depth) || (sensor && depth <= 0)) return 1;
     if (w->one_way_bodies && !sensor && (ba->one_way | bb->one_way) && !one_way_holds(w, ba, bb, n, depth)) return 1;
+    if (w->con_new_count >= NT_MAX_CONTACTS) { /* bodies piled on each other beyond simulation */
+        w->pairs_over = 1;
+        return 0;
+    }
     if (w->con_new_count == w->con_new_cap) {
         nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
                                                  w->con_new_count + 1, sizeof *p);
@@ -656,12 +660,23 @@ NT__NOINLINE static int large_pairs(nt_world *w, int *tests)
     return 1;
 }
 
+static nt_status find_pairs(nt_world *w, nt_real dt);
+
+/* Failures of the pair search: out of memory, or over NT_MAX_CONTACTS. */
 nt_status nt__grid_find_pairs(nt_world *w, nt_real dt)
+{
+    nt_status s = find_pairs(w, dt);
+    if (s == NT_ERR_OUT_OF_MEMORY && w->pairs_over) s = NT_ERR_LIMIT;
+    return s;
+}
+
+static nt_status find_pairs(nt_world *w, nt_real dt)
 {
     w->pair_margin = w->cell * NT__CONTACT_MARGIN;
     w->pair_dt = dt;
     w->con_new_count = 0;
     w->counters.pair_tests = 0;
+    w->pairs_over = 0;
     if (!w->heads || w->grid_bodies < 2) return NT_OK;
     /* Skip everything when no awake body can collide with any body of the grid. */
     int possible = 0;

@@ -55,6 +55,7 @@ nt_status nt_level_create(int width, int height, nt_real cell_size, nt_level **o
     if (width < 1 || height < 1 || width > NT_MAP_MAX_SIDE || height > NT_MAP_MAX_SIDE) return NT_ERR_OUT_OF_RANGE;
     if (!nt__finite(cell_size)) return NT_ERR_NON_FINITE;
     if (cell_size <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (cell_size < (nt_real)NT_MIN_CELL_SIZE || cell_size > (nt_real)NT_MAX_CELL_SIZE) return NT_ERR_OUT_OF_RANGE;
     nt_level *lv = (nt_level *)nt__alloc(sizeof *lv);
     if (!lv) return NT_ERR_OUT_OF_MEMORY;
     memset(lv, 0, sizeof *lv);
@@ -261,6 +262,7 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
     if (b->mass <= 0) return "mass must be > 0";
     if (b->type == NT_BODY_DYNAMIC && !(b->mass >= NT_MIN_MASS && b->mass <= NT_MAX_MASS)) return "mass outside 1e-12 .. 1e12";
     if (b->drag < 0) return "negative drag";
+    if (nt__fabs(b->gravity_scale) > (nt_real)NT_MAX_GRAVITY_SCALE) return "gravity scale outside -1e6 .. 1e6";
     if ((p = material_problem(lv->friction_model, b->material)) != NULL) return p;
     if (b->path < -1 || b->path >= lv->path_count) return "unknown path";
     if (b->path >= 0 && b->type != NT_BODY_KINEMATIC) return "only kinematic bodies follow paths";
@@ -406,12 +408,17 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
                                NT_MAP_MAX_SIDE);
     if (!nt__finite(lv->cell_size) || lv->cell_size <= 0)
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: cell size must be finite and > 0");
+    if (lv->cell_size < (nt_real)NT_MIN_CELL_SIZE || lv->cell_size > (nt_real)NT_MAX_CELL_SIZE)
+        return nt__error_plain(err, NT_ERR_OUT_OF_RANGE, "level: cell size %g outside %g .. %g", (double)lv->cell_size,
+                               (double)NT_MIN_CELL_SIZE, (double)NT_MAX_CELL_SIZE);
     if (!lv->tiles || !lv->cell_materials || !lv->cell_flags)
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: missing cell arrays");
     if (!nt__valid_text(lv->title, NT_LEVEL_TEXT_MAX) || !nt__valid_text(lv->author, NT_LEVEL_TEXT_MAX))
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: title or author holds '\"', '\\' or a control character");
     if (!fin2(lv->gravity) || !nt__finite(lv->body_drag) || (lv->has_player && !fin2(lv->player)))
         return nt__error_plain(err, NT_ERR_NON_FINITE, "level: non-finite setting");
+    if (nt__fabs(lv->gravity.x) > (nt_real)NT_MAX_GRAVITY || nt__fabs(lv->gravity.y) > (nt_real)NT_MAX_GRAVITY)
+        return nt__error_plain(err, NT_ERR_OUT_OF_RANGE, "level: gravity beyond %g", (double)NT_MAX_GRAVITY);
     if (lv->friction_model != NT_FRICTION_N && lv->friction_model != NT_FRICTION_COULOMB)
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: unknown friction model");
     if (lv->has_player && !in_reach(lv, lv->player))
@@ -587,6 +594,21 @@ static nt_status vec_at(parser *P, int i, const char *what_x, const char *what_y
     return s != NT_OK ? s : real_at(P, i + 1, what_y, &out->y);
 }
 
+/* A real at field i within [-lim, lim] (lo > 0: also at least lo). */
+static nt_status ranged_at(parser *P, int i, const char *what, nt_real lo, nt_real lim, nt_real *out)
+{
+    nt_status s = real_at(P, i, what, out);
+    if (s == NT_OK && (nt__fabs(*out) > lim || (lo > 0 && !(*out >= lo)))) {
+        char q[NT__QUOTE_MAX];
+        if (lo > 0)
+            return nt__fail_col(&P->t, P->t.f[i].col, "%s '%s' is outside %g .. %g", what,
+                                nt__quote(q, P->t.f[i].s, P->t.f[i].n), (double)lo, (double)lim);
+        return nt__fail_col(&P->t, P->t.f[i].col, "%s '%s' is outside -%g .. %g", what,
+                            nt__quote(q, P->t.f[i].s, P->t.f[i].n), (double)lim, (double)lim);
+    }
+    return s;
+}
+
 /* `material` fields friction, bounce at i, i+1, checked against the friction model. */
 static nt_status material_at(parser *P, int i, const char *what, nt_material *m)
 {
@@ -642,10 +664,12 @@ static nt_status parse_setting(parser *P, int key)
     }
     case K_CELL:
         if ((s = nt__expect_fields(t, 2, "cell SIZE")) != NT_OK) return s;
-        return positive_at(P, 1, "cell size", &lv->cell_size);
+        if ((s = positive_at(P, 1, "cell size", &lv->cell_size)) != NT_OK) return s;
+        return ranged_at(P, 1, "cell size", (nt_real)NT_MIN_CELL_SIZE, (nt_real)NT_MAX_CELL_SIZE, &lv->cell_size);
     case K_GRAVITY:
         if ((s = nt__expect_fields(t, 3, "gravity X Y")) != NT_OK) return s;
-        return vec_at(P, 1, "gravity x", "gravity y", &lv->gravity);
+        if ((s = ranged_at(P, 1, "gravity x", 0, (nt_real)NT_MAX_GRAVITY, &lv->gravity.x)) != NT_OK) return s;
+        return ranged_at(P, 2, "gravity y", 0, (nt_real)NT_MAX_GRAVITY, &lv->gravity.y);
     case K_MODEL:
         if ((s = nt__expect_fields(t, 2, "friction-model n|coulomb")) != NT_OK) return s;
         if (nt__field_is(&t->f[1], "n")) lv->friction_model = NT_FRICTION_N;
@@ -1016,7 +1040,7 @@ static nt_status parse_body(parser *P)
             if (s == NT_OK) s = check_model_friction(P, b.material, t->line, material_col, "body");
             break;
         case O_DRAG: s = nonneg_at(P, a, "drag", &b.drag); break;
-        case O_GSCALE: s = real_at(P, a, "gravity scale", &b.gravity_scale); break;
+        case O_GSCALE: s = ranged_at(P, a, "gravity scale", 0, (nt_real)NT_MAX_GRAVITY_SCALE, &b.gravity_scale); break;
         case O_CATEGORY: s = nt__field_u32(t, &t->f[a], "category", &b.category); break;
         case O_MASK: s = nt__field_u32(t, &t->f[a], "mask", &b.mask); break;
         case O_SENSOR: b.sensor = true; break;

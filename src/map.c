@@ -80,6 +80,46 @@ static void refresh_open3_all(nt_map *map)
         for (int x = 0; x < map->w; x++) refresh_open3(map, x, y);
 }
 
+static void count_block_cell(nt_map *map, int x, int y, int tile, int sign)
+{
+    size_t b = (size_t)(y / NT__BLOCK) * (size_t)map->bw + (size_t)(x / NT__BLOCK);
+    if (tile == NT_TILE_EMPTY) map->blk_empty[b] = (uint8_t)(map->blk_empty[b] + sign);
+    if (tile != NT_TILE_FULL) map->blk_open[b] = (uint8_t)(map->blk_open[b] + sign);
+}
+
+static void count_blocks_all(nt_map *map)
+{
+    size_t nb = (size_t)map->bw * (size_t)map->bh;
+    memset(map->blk_empty, 0, nb);
+    memset(map->blk_open, 0, nb);
+    for (int y = 0; y < map->h; y++)
+        for (int x = 0; x < map->w; x++) count_block_cell(map, x, y, map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile, 1);
+}
+
+/* The smallest Chebyshev distance from cell (cx, cy) to a cell of the map within
+ * `reach` of it whose block counts a cell of `cnt` (conservative: a block's nearest
+ * cell), or -1 when no block within reach has one. */
+static int nearest_block(const nt_map *map, const uint8_t *cnt, int cx, int cy, int reach)
+{
+    int bx0 = cx - reach, by0 = cy - reach, bx1 = cx + reach, by1 = cy + reach;
+    if (bx1 < 0 || by1 < 0 || bx0 >= map->w || by0 >= map->h) return -1;
+    bx0 = bx0 < 0 ? 0 : bx0 / NT__BLOCK;
+    by0 = by0 < 0 ? 0 : by0 / NT__BLOCK;
+    bx1 = (bx1 >= map->w ? map->w - 1 : bx1) / NT__BLOCK;
+    by1 = (by1 >= map->h ? map->h - 1 : by1) / NT__BLOCK;
+    int best = -1;
+    for (int by = by0; by <= by1; by++)
+        for (int bx = bx0; bx <= bx1; bx++) {
+            if (!cnt[(size_t)by * (size_t)map->bw + (size_t)bx]) continue;
+            int lx = bx * NT__BLOCK, hx = lx + NT__BLOCK - 1, ly = by * NT__BLOCK, hy = ly + NT__BLOCK - 1;
+            int dx = cx < lx ? lx - cx : cx > hx ? cx - hx : 0;
+            int dy = cy < ly ? ly - cy : cy > hy ? cy - hy : 0;
+            int dd = dx > dy ? dx : dy;
+            if (best < 0 || dd < best) best = dd;
+        }
+    return best;
+}
+
 nt_status nt_map_create(const nt_map_def *def, nt_map **out)
 {
     if (!out) return NT_ERR_INVALID_ARGUMENT;
@@ -87,6 +127,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     if (!def) return NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(def->cell_size)) return NT_ERR_NON_FINITE;
     if (def->cell_size <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (def->cell_size < (nt_real)NT_MIN_CELL_SIZE || def->cell_size > (nt_real)NT_MAX_CELL_SIZE) return NT_ERR_OUT_OF_RANGE;
     if (def->width < 1 || def->height < 1 || def->width > NT_MAP_MAX_SIDE || def->height > NT_MAP_MAX_SIDE)
         return NT_ERR_OUT_OF_RANGE;
     nt_map *m = (nt_map *)nt__alloc(sizeof *m);
@@ -94,9 +135,15 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     size_t n = (size_t)def->width * (size_t)def->height;
     m->cells = (nt__cell *)nt__alloc(n * sizeof *m->cells);
     m->open3 = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *m->open3);
-    if (!m->cells || !m->open3) {
+    m->bw = (def->width + NT__BLOCK - 1) / NT__BLOCK;
+    m->bh = (def->height + NT__BLOCK - 1) / NT__BLOCK;
+    m->blk_empty = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
+    m->blk_open = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
+    if (!m->cells || !m->open3 || !m->blk_empty || !m->blk_open) {
         nt__free(m->cells);
         nt__free(m->open3);
+        nt__free(m->blk_empty);
+        nt__free(m->blk_open);
         nt__free(m);
         return NT_ERR_OUT_OF_MEMORY;
     }
@@ -110,6 +157,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
             if (x == 0 || y == 0 || x == m->w - 1 || y == m->h - 1) /* the border's edges */
                 m->cells[(size_t)y * (size_t)m->w + (size_t)x] = compute_cell(m, x, y);
     refresh_open3_all(m);
+    count_blocks_all(m);
     *out = m;
     return NT_OK;
 }
@@ -119,6 +167,8 @@ void nt_map_destroy(nt_map *map)
     if (!map) return;
     nt__free(map->cells);
     nt__free(map->open3);
+    nt__free(map->blk_empty);
+    nt__free(map->blk_open);
     nt__free(map);
 }
 
@@ -137,6 +187,8 @@ nt_status nt_map_set_tile(nt_map *map, int x, int y, int tile)
     if (!map) return NT_ERR_INVALID_ARGUMENT;
     if (x < 0 || y < 0 || x >= map->w || y >= map->h) return NT_ERR_OUT_OF_RANGE;
     if (tile < 0 || tile >= NT_TILE_COUNT) return NT_ERR_OUT_OF_RANGE;
+    count_block_cell(map, x, y, map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile, -1);
+    count_block_cell(map, x, y, tile, 1);
     map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile = (uint8_t)tile;
     refresh(map, x, y);
     for (int s = 0; s < 4; s++) refresh(map, x + side_dx[s], y + side_dy[s]);
@@ -156,6 +208,7 @@ nt_status nt_map_set_tiles(nt_map *map, const uint8_t *tiles, size_t count)
     for (int y = 0; y < map->h; y++)
         for (int x = 0; x < map->w; x++) refresh(map, x, y);
     refresh_open3_all(map);
+    count_blocks_all(map);
     return NT_OK;
 }
 
@@ -758,7 +811,8 @@ static int search_directions(const mview *map, nt_vec2 p, nt_shape shape, nt_vec
     int found = 0;
     for (int k = 0; k < DIRS; k++) {
         nt_real a = (nt_real)k * R(6.283185307179586 / DIRS);
-        nt_real ux = (nt_real)cos((double)a), uy = (nt_real)sin((double)a);
+        nt_cos_sin cs = nt_compute_cos_sin((double)a);
+        nt_real ux = (nt_real)cs.cosine, uy = (nt_real)cs.sine;
         nt_real lo = 0, hi = -1;
         for (int s = 1; s <= STEPS; s++) {
             nt_real t = reach * (nt_real)s / STEPS;
@@ -796,11 +850,16 @@ static nt_vec2 escape(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
     int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
     nt_real best = NT_REAL_MAX;
     nt_vec2 d = nt_v2(0, 0);
-    for (int ring = 0; ring < 64; ring++) {
+    /* Rings nearer than the nearest block holding an EMPTY cell hold none: start
+     * there (none within reach: nothing to find). Each ring walks its perimeter only,
+     * in the order of a row-major scan of its square. Worst case: one EMPTY cell 63
+     * rings away, about 16,000 cells. */
+    int ring0 = nearest_block(map->map, map->map->blk_empty, cx + map->ox, cy + map->oy, 63);
+    if (ring0 < 0) return d;
+    for (int ring = ring0; ring < 64; ring++) {
         if ((nt_real)ring - 1 > best) break; /* no cell of this ring can be nearer */
         for (int y = cy - ring; y <= cy + ring; y++)
-            for (int x = cx - ring; x <= cx + ring; x++) {
-                if (x != cx - ring && x != cx + ring && y != cy - ring && y != cy + ring) continue;
+            for (int x = cx - ring; x <= cx + ring; x += (y == cy - ring || y == cy + ring || ring == 0) ? 1 : 2 * ring) {
                 if (vtile(map, x, y) != NT_TILE_EMPTY) continue;
                 nt_vec2 c = nt_v2((nt_real)x + R(0.5), (nt_real)y + R(0.5));
                 nt_real dist = nt__len(nt__sub(c, p));
@@ -975,6 +1034,20 @@ static int vertex_hidden(int t, int vi, unsigned seams)
     return adjacent == 2 && hidden == 2;
 }
 
+/* The cells (x-1..x+1, y-1..y+1) of the map all lie in blocks without a cell that is
+ * not FULL, and (x, y) is in the map. */
+static int solid_around(const nt_map *map, int x, int y)
+{
+    if (!nt__map_in(map, x, y)) return 0;
+    int xa = x > 0 ? x - 1 : 0, xb = x + 1 < map->w ? x + 1 : x;
+    int ya = y > 0 ? y - 1 : 0, yb = y + 1 < map->h ? y + 1 : y;
+    const uint8_t *b = map->blk_open;
+    size_t bw = (size_t)map->bw;
+    size_t r0 = (size_t)(ya / NT__BLOCK) * bw, r1 = (size_t)(yb / NT__BLOCK) * bw;
+    size_t c0 = (size_t)(xa / NT__BLOCK), c1 = (size_t)(xb / NT__BLOCK);
+    return !b[r0 + c0] && !b[r0 + c1] && !b[r1 + c0] && !b[r1 + c1];
+}
+
 static int big_features(const probe *o, nt_vec2 c, nt_real reach, big_feats *all)
 {
     const nt_shape shape = o->shape;
@@ -984,9 +1057,18 @@ static int big_features(const probe *o, nt_vec2 c, nt_real reach, big_feats *all
     int y0 = nt__floor_int(c.y - h.y - reach), y1 = nt__floor_int(c.y + h.y + reach);
     /* Box features offset the cell's sides by the half-size; a circle's lines by r. */
     nt_vec2 off = shape.type == NT_SHAPE_CIRCLE ? nt_v2(h.x, h.x) : h;
+    /* Cells more than one outside the map, and cells whose 3 x 3 neighbourhood lies in
+     * blocks of FULL cells only, are FULL among FULL: every side a seam, every vertex
+     * inside solid, no curve. */
+    const mview *map = o->map;
+    if (x0 < VX0(map) - 1) x0 = VX0(map) - 1;
+    if (y0 < VY0(map) - 1) y0 = VY0(map) - 1;
+    if (x1 > VX1(map)) x1 = VX1(map);
+    if (y1 > VY1(map)) y1 = VY1(map);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = vcell(o->map, x, y);
+            if (solid_around(map->map, x + map->ox, y + map->oy)) continue;
+            nt__cell cell = vcell(map, x, y);
             if (cell.tile == NT_TILE_EMPTY) continue;
             feats one; /* a tile has at most 9 curves */
             one.n = 0;
@@ -1143,15 +1225,23 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
     const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
     const nt_real oy[6] = {R(0.5), h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, R(0.25), R(0.75)};
     nt_real best = NT_REAL_MAX;
-    for (int ring = 0; ring < 32; ring++) {
+    /* A centre in ring r covers cells within ceil(h) + 1 of its own: while that stays
+     * short of the nearest block with a cell that is not FULL, the object overlaps
+     * FULL cells only, by at least its half-size, and is not free. */
+    int hc = (int)nt__floor(nt__max(h.x, h.y)) + 2;
+    int nb = nearest_block(map->map, map->map->blk_open, cx + map->ox, cy + map->oy, 31 + hc);
+    if (nb < 0) return 0;
+    int ring0 = nb - hc > 0 ? nb - hc : 0;
+    for (int ring = ring0; ring < 32; ring++) {
         if ((nt_real)ring - 1 > best) break; /* no centre of this ring can be nearer */
         for (int y = cy - ring; y <= cy + ring; y++)
-            for (int x = cx - ring; x <= cx + ring; x++) {
-                if (x != cx - ring && x != cx + ring && y != cy - ring && y != cy + ring) continue;
+            for (int x = cx - ring; x <= cx + ring; x += (y == cy - ring || y == cy + ring || ring == 0) ? 1 : 2 * ring) {
                 for (int i = 0; i < 36; i++) {
                     nt_vec2 c = nt_v2((nt_real)x + ox[i % 6], (nt_real)y + oy[i / 6]);
                     nt_real dist = nt__len(nt__sub(c, p));
-                    if (dist < best && probe_free(o, c)) {
+                    /* A centre in a FULL cell overlaps it by more than half a cell. */
+                    if (dist < best && vtile(map, nt__floor_int(c.x), nt__floor_int(c.y)) != NT_TILE_FULL &&
+                        probe_free(o, c)) {
                         best = dist;
                         *d = nt__sub(c, p);
                     }
@@ -1185,12 +1275,25 @@ NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape
          * whole map is in it: deep inside a mass of tiles, the answer is still the
          * shortest way out, at a cost that grows with the depth. */
         nt_real len = found ? nt__len(res->push) : 2 * nt__max(h.x, h.y) + 2;
-        nt_real all = (nt_real)map->map->w + (nt_real)map->map->h + 4 * nt__max(h.x, h.y) + 4;
+        /* Bounded: 16 cells past the object's size at most (it was the whole map, whose
+         * area each doubling walked: seconds a step for large bodies sunk in a porous
+         * mass). Deeper than that, big_escape's nearest free centre is the answer. */
+        nt_real all = nt__min((nt_real)map->map->w + (nt_real)map->map->h + 4 * nt__max(h.x, h.y) + 4,
+                              2 * nt__max(h.x, h.y) + 16);
+        /* Every curve comes from a tile side or vertex that is not a seam: within the
+         * cells of FULL blocks around p there is none, so the reaches that stay
+         * inside them are skipped (they cost their area in cells each, to the whole
+         * map, for an object in a solid mass). (Blocks are the map's: map coordinates.) */
+        int hc = (int)nt__floor(nt__max(h.x, h.y)) + 3;
+        int fx = (int)nt__clamp(nt__floor(p.x) + (nt_real)map->ox, -8, (nt_real)map->map->w + 8);
+        int fy = (int)nt__clamp(nt__floor(p.y) + (nt_real)map->oy, -8, (nt_real)map->map->h + 8);
+        int near_open = nearest_block(map->map, map->map->blk_open, fx, fy, (int)all + 2 * hc);
         if (!found || len > lb * R(1.000001) + R(1e-6))
             for (;;) {
                 nt_resolution e;
                 memset(&e, 0, sizeof e);
-                if (big_enumerate(o, p, len, &e)) {
+                int none = near_open < 0 || (nt_real)near_open > len + (nt_real)hc;
+                if (!none && big_enumerate(o, p, len, &e)) {
                     *res = e;
                     found = 1;
                 }
@@ -1222,15 +1325,26 @@ static void to_world(nt_resolution *res, const mview *v, nt_real cell)
     }
 }
 
+nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
+{
+    if (!map) return NT_ERR_INVALID_ARGUMENT;
+    if (shape.type != NT_SHAPE_AABB && shape.type != NT_SHAPE_CIRCLE) return NT_ERR_INVALID_ARGUMENT;
+    if (!nt__finite(shape.half.x) || !nt__finite(shape.half.y)) return NT_ERR_NON_FINITE;
+    if (shape.half.x < 0 || shape.half.y < 0) return NT_ERR_INVALID_ARGUMENT;
+    nt_real cap = map->cell * R(NT_MAX_HALF_CELLS);
+    if (shape.half.x > cap || shape.half.y > cap) return NT_ERR_SHAPE_TOO_LARGE;
+    return NT_OK;
+}
+
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
     nt_resolution res;
     memset(&res, 0, sizeof res);
+    /* Refused before any loop, whatever the assert hook answers: a half-size of 1e30
+     * let through by a hook that carries on walked cells for a very long time. */
+    res.status = nt_map_check_shape(map, shape);
     if (out) *out = res;
-    NT_ASSERT(map != NULL);
-    if (!map) return false;
-    NT_ASSERT(shape.half.x >= 0 && shape.half.y >= 0 && shape.half.x <= map->cell * R(NT_MAX_HALF_CELLS) &&
-              shape.half.y <= map->cell * R(NT_MAX_HALF_CELLS));
+    if (res.status != NT_OK) return false;
     nt_real ic = map->inv_cell, cell = map->cell;
     if (!nt__finite(pos.x) || !nt__finite(pos.y)) return false;
     nt_vec2 p;
@@ -1282,7 +1396,16 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     }
     if (!found) {
         nt_vec2 d, e = escape(vm, p, shape, h);
-        if (!search_directions(vm, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
+        /* The sampled search probes centres up to 1.6 cells away, whose shapes cover
+         * cells within 4 of p's: when all of those are FULL and the shape is thicker
+         * than the free tolerance, it cannot find a way out (skipped: its 3,000 probes
+         * were most of a step in a solid mass). (Blocks are the map's: map coordinates.) */
+        int fx = (int)nt__clamp(nt__floor(p.x) + (nt_real)vm->ox, -8, (nt_real)map->w + 8);
+        int fy = (int)nt__clamp(nt__floor(p.y) + (nt_real)vm->oy, -8, (nt_real)map->h + 8);
+        int near_open = nearest_block(map, map->blk_open, fx, fy, 4);
+        int hopeless = (near_open < 0 || near_open > 4) &&
+                       nt__min(h.x, h.y) > R(2) * free_tolerance(nt_v2(nt__fabs(p.x) + 2, nt__fabs(p.y) + 2));
+        if (hopeless || !search_directions(vm, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
         nt_real l = nt__len(d);
         /* Deeper than the exact search reached: the sampled way out bounds the
          * shortest, which the exact search then finds within that reach. */
@@ -1341,7 +1464,7 @@ int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_
 
 nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape)
 {
-    if (!map) return 0;
+    if (nt_map_check_shape(map, shape) != NT_OK) return 0;
     nt_real ic = map->inv_cell;
     if (!nt__finite(pos.x) || !nt__finite(pos.y)) return 0;
     nt_vec2 p;

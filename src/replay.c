@@ -276,7 +276,8 @@ static nt_status parse_rlines(rparser *P)
             case RK_DT:
                 if ((s = nt__expect_fields(t, 2, "dt SECONDS")) != NT_OK) return s;
                 s = nt__field_real(t, &t->f[1], "dt", &rp->dt);
-                if (s == NT_OK && !(rp->dt > 0)) s = nt__fail_col(t, t->f[1].col, "dt must be > 0");
+                if (s == NT_OK && !(rp->dt >= (nt_real)NT_MIN_DT && rp->dt <= (nt_real)NT_MAX_DT))
+                    s = nt__fail_col(t, t->f[1].col, "dt must lie in %g .. %g seconds", (double)NT_MIN_DT, (double)NT_MAX_DT);
                 break;
             case RK_TICKS: {
                 if ((s = nt__expect_fields(t, 2, "ticks N")) != NT_OK) return s;

@@ -1216,6 +1216,10 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             int32_t q = s2 ? c->sb : c->sa;
             if (index[i] != q) continue; /* written back already */
             index[i] = -1;
+            /* A static body keeps its zero velocity whatever the impulses were (they
+             * are multiplied by its zero inverse mass: exact zeros, or NaN after an
+             * overflow). */
+            if (w->bodies[i].type == NT_BODY_STATIC) continue;
             toi_shift(w, i, sv[q].v, sv[q].w);
             if (kicked_out(w, w->bodies[i].v, sv[q].v, dt)) {
                 w->bodies[i].motion |= NT__MF_KICKED;

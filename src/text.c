@@ -10,6 +10,11 @@ void nt__text_init(nt__text *t, const char *name, const char *buf, size_t len, n
     t->name = name ? name : "(text)";
     t->buf = buf ? buf : "";
     t->len = buf ? len : 0;
+    /* A UTF-8 byte order mark (as some editors save) is skipped: columns count from
+     * after it, as editors show them. */
+    if (t->len >= 3 && (unsigned char)t->buf[0] == 0xef && (unsigned char)t->buf[1] == 0xbb &&
+        (unsigned char)t->buf[2] == 0xbf)
+        t->next = 3;
     t->err = err;
     if (err) {
         err->line = 0;

@@ -76,6 +76,14 @@ nt_world_def nt_default_world_def(void)
     return d;
 }
 
+/* Gravity within NT_MAX_GRAVITY per part (finite checked first). */
+static int gravity_in_range(nt_vec2 g)
+{
+    return nt__fabs(g.x) <= (nt_real)NT_MAX_GRAVITY && nt__fabs(g.y) <= (nt_real)NT_MAX_GRAVITY;
+}
+
+static int gravity_scale_in_range(nt_real s) { return nt__fabs(s) <= (nt_real)NT_MAX_GRAVITY_SCALE; }
+
 static nt_status check_world_def(const nt_world_def *d)
 {
     if (!finite2(d->gravity) || !nt__finite(d->restitution_threshold) || !nt__finite(d->hit_event_threshold) ||
@@ -88,6 +96,7 @@ static nt_status check_world_def(const nt_world_def *d)
     if (s != NT_OK) return s;
     if (d->restitution_threshold < 0 || d->hit_event_threshold < 0 || d->sleep_speed < 0 || d->sleep_time < 0)
         return NT_ERR_INVALID_ARGUMENT;
+    if (!gravity_in_range(d->gravity)) return NT_ERR_OUT_OF_RANGE;
     if (d->max_cells_per_step < 1 || d->max_cells_per_step > 16) return NT_ERR_OUT_OF_RANGE;
     if (d->velocity_iterations < 1 || d->velocity_iterations > 64) return NT_ERR_OUT_OF_RANGE;
     if (d->position_iterations < 0 || d->position_iterations > 64) return NT_ERR_OUT_OF_RANGE;
@@ -173,7 +182,7 @@ nt_status nt_world_create(const nt_world_def *def, nt_world **out)
         return s;
     }
     w->def = *def;
-    w->floor_cos = (nt_real)cos((double)def->floor_angle);
+    w->floor_cos = (nt_real)nt_compute_cos_sin((double)def->floor_angle).cosine;
     w->cell = w->map->cell;
     w->inv_cell = w->map->inv_cell;
     for (int i = 0; i < NT_MAX_MATERIALS; i++) w->materials[i] = def->tile_material;
@@ -192,7 +201,7 @@ nt_status nt_world_create(const nt_world_def *def, nt_world **out)
 
 void nt_world_destroy(nt_world *w)
 {
-    if (!w) return;
+    if (!w || w->locked) return; /* from inside its own callback: refused (nothing to report it to) */
     nt_map_destroy(w->map);
     nt_map_destroy(w->solid);
     nt__free(w->cell_mat);
@@ -235,9 +244,11 @@ void nt_world_destroy(nt_world *w)
 
 nt_status nt_world_step(nt_world *w, nt_real dt)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(dt)) return NT_ERR_NON_FINITE;
     if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (dt < (nt_real)NT_MIN_DT || dt > (nt_real)NT_MAX_DT) return NT_ERR_OUT_OF_RANGE;
     return nt__step(w, dt);
 }
 
@@ -256,6 +267,7 @@ nt_world_counters nt_world_get_counters(const nt_world *w)
 
 void nt_world_enable_profile(nt_world *w, bool enable)
 {
+    if (w && w->locked) return;
     if (!w) return;
     w->profiling = enable;
     memset(&w->profile, 0, sizeof w->profile);
@@ -279,8 +291,10 @@ static void wake_all(nt_world *w)
 
 nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!finite2(g)) return NT_ERR_NON_FINITE;
+    if (!gravity_in_range(g)) return NT_ERR_OUT_OF_RANGE;
     w->def.gravity = g;
     wake_all(w);
     return NT_OK;
@@ -323,6 +337,7 @@ static void wake_near_cells(nt_world *w, int x0, int y0, int x1, int y1)
 
 nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     nt_status s = nt_map_set_tile(w->map, x, y, tile);
     if (s != NT_OK) return s;
@@ -337,6 +352,7 @@ nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
 
 nt_status nt_world_set_tiles(nt_world *w, const uint8_t *tiles, size_t count)
 {
+    NT__CHECK_LOCK(w);
     if (!w || !tiles) return NT_ERR_INVALID_ARGUMENT;
     size_t n = (size_t)w->map->w * (size_t)w->map->h;
     uint8_t *tmp = NULL;
@@ -362,6 +378,7 @@ nt_status nt_world_set_tiles(nt_world *w, const uint8_t *tiles, size_t count)
 
 nt_status nt_world_set_material(nt_world *w, int index, nt_material m)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (index < 0 || index >= NT_MAX_MATERIALS) return NT_ERR_OUT_OF_RANGE;
     nt_status s = check_material(&w->def, m);
@@ -381,6 +398,7 @@ static int in_map(const nt_world *w, int x, int y) { return x >= 0 && y >= 0 && 
 
 nt_status nt_world_set_cell_material(nt_world *w, int x, int y, int index)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!in_map(w, x, y) || index < 0 || index >= NT_MAX_MATERIALS) return NT_ERR_OUT_OF_RANGE;
     size_t n = (size_t)w->map->w * (size_t)w->map->h;
@@ -403,6 +421,7 @@ int nt_world_get_cell_material(const nt_world *w, int x, int y)
 
 nt_status nt_world_set_cell_flags(nt_world *w, int x, int y, uint32_t flags)
 {
+    NT__CHECK_LOCK(w);
     if (!w) return NT_ERR_INVALID_ARGUMENT;
     if (!in_map(w, x, y)) return NT_ERR_OUT_OF_RANGE;
     if (flags & ~NT_CELL_ONE_WAY) return NT_ERR_INVALID_ARGUMENT;
@@ -693,6 +712,7 @@ static nt_status check_body_def(const nt_world *w, const nt_body_def *d)
      * well scaled in float. */
     if (d->type == NT_BODY_DYNAMIC && !(d->mass >= NT_MIN_MASS && d->mass <= NT_MAX_MASS)) return NT_ERR_OUT_OF_RANGE;
     if (d->linear_drag < 0) return NT_ERR_INVALID_ARGUMENT;
+    if (!gravity_scale_in_range(d->gravity_scale)) return NT_ERR_OUT_OF_RANGE;
     return NT_OK;
 }
 
@@ -700,6 +720,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
 {
     if (out) *out = nt_null_body_id();
     if (!w || !def || !out) return NT_ERR_INVALID_ARGUMENT;
+    NT__CHECK_LOCK(w);
     nt_status s = check_body_def(w, def);
     if (s != NT_OK) return s;
     if (w->body_count >= 0x7ffffffe) return NT_ERR_LIMIT;
@@ -801,6 +822,7 @@ static void wake_partners(nt_world *w, int32_t i)
 
 nt_status nt_body_destroy(nt_world *w, nt_body_id id)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
@@ -885,6 +907,7 @@ nt_vec2 nt_body_get_position(const nt_world *w, nt_body_id id)
 
 nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!finite2(p)) return NT_ERR_NON_FINITE;
@@ -906,6 +929,7 @@ nt_vec2 nt_body_get_velocity(const nt_world *w, nt_body_id id)
 
 nt_status nt_body_set_velocity(nt_world *w, nt_body_id id, nt_vec2 v)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!finite2(v)) return NT_ERR_NON_FINITE;
@@ -919,6 +943,7 @@ nt_status nt_body_set_velocity(nt_world *w, nt_body_id id, nt_vec2 v)
 
 nt_status nt_body_apply_impulse(nt_world *w, nt_body_id id, nt_vec2 impulse)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!finite2(impulse)) return NT_ERR_NON_FINITE;
@@ -940,6 +965,7 @@ nt_material nt_body_get_material(const nt_world *w, nt_body_id id)
 
 nt_status nt_body_set_material(nt_world *w, nt_body_id id, nt_material m)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     nt_status s = check_material(&w->def, m);
@@ -951,9 +977,11 @@ nt_status nt_body_set_material(nt_world *w, nt_body_id id, nt_material m)
 
 nt_status nt_body_set_gravity_scale(nt_world *w, nt_body_id id, nt_real scale)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(scale)) return NT_ERR_NON_FINITE;
+    if (!gravity_scale_in_range(scale)) return NT_ERR_OUT_OF_RANGE;
     b->gravity_scale = scale;
     nt__wake(w, id.index1 - 1);
     return NT_OK;
@@ -961,6 +989,7 @@ nt_status nt_body_set_gravity_scale(nt_world *w, nt_body_id id, nt_real scale)
 
 nt_status nt_body_set_linear_drag(nt_world *w, nt_body_id id, nt_real drag)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(drag)) return NT_ERR_NON_FINITE;
@@ -971,6 +1000,7 @@ nt_status nt_body_set_linear_drag(nt_world *w, nt_body_id id, nt_real drag)
 
 nt_status nt_body_set_filter(nt_world *w, nt_body_id id, uint32_t category, uint32_t mask)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
@@ -1013,6 +1043,7 @@ bool nt_body_is_awake(const nt_world *w, nt_body_id id)
 
 nt_status nt_body_set_awake(nt_world *w, nt_body_id id, bool awake)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
@@ -1028,6 +1059,7 @@ nt_status nt_body_set_awake(nt_world *w, nt_body_id id, bool awake)
 
 nt_status nt_body_enable_sleep(nt_world *w, nt_body_id id, bool enable)
 {
+    NT__CHECK_LOCK(w);
     nt__body *b = get_body(w, id);
     if (!b) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     if (enable) {
@@ -1046,6 +1078,7 @@ void *nt_body_get_user_data(const nt_world *w, nt_body_id id)
 
 nt_status nt_body_set_user_data(nt_world *w, nt_body_id id, void *user_data)
 {
+    NT__CHECK_LOCK(w);
     if (!get_body(w, id)) return w ? NT_ERR_INVALID_ID : NT_ERR_INVALID_ARGUMENT;
     w->cold[id.index1 - 1].user_data = user_data;
     return NT_OK;
@@ -1384,8 +1417,10 @@ bool nt_world_raycast(const nt_world *w, nt_vec2 p0, nt_vec2 p1, nt_query_filter
     }
     if (w->heads && w->grid_bodies > 0 && filter.mask != 0) {
         nt_vec2 d = nt__sub(p1, p0);
+        NT__LOCK(w); /* the filter's accept callback */
         for (int lv = 0; lv < NT__LEVELS; lv++)
             if (nt__grid_level_used(w, lv)) ray_level_bodies(w, lv, p0, d, filter, &best);
+        NT__UNLOCK(w);
     }
     if (best.fraction > 1) return false;
     if (out) *out = best;
@@ -1437,7 +1472,9 @@ int nt_world_query_point(const nt_world *w, nt_vec2 p, nt_query_filter filter, n
     q.fn = fn;
     q.user = context;
     q.point = 1;
+    NT__LOCK(w);
     nt__grid_visit(w, p, p, overlap_visit, &q);
+    NT__UNLOCK(w);
     return q.count;
 }
 
@@ -1452,7 +1489,9 @@ int nt_world_overlap_aabb(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt_query_fi
     q.filter = filter;
     q.fn = fn;
     q.user = context;
+    NT__LOCK(w);
     nt__grid_visit(w, lo, hi, overlap_visit, &q);
+    NT__UNLOCK(w);
     return q.count;
 }
 
@@ -1523,9 +1562,20 @@ static void draw_coarse_cells(const nt_world *w, const nt_debug_draw *dd)
     }
 }
 
+static void draw_world(const nt_world *w, const nt_debug_draw *dd);
+
+bool nt_world_is_locked(const nt_world *w) { return w && w->locked > 0; }
+
 void nt_world_draw(const nt_world *w, const nt_debug_draw *dd)
 {
     if (!w || !dd) return;
+    NT__LOCK(w);
+    draw_world(w, dd);
+    NT__UNLOCK(w);
+}
+
+static void draw_world(const nt_world *w, const nt_debug_draw *dd)
+{
     nt_real s = w->cell, ic = w->inv_cell;
     int x0 = 0, y0 = 0, x1 = w->map->w - 1, y1 = w->map->h - 1;
     nt_vec2 lo = dd->bounds_lo, hi = dd->bounds_hi;

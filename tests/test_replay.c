@@ -114,7 +114,7 @@ static void test_errors(void **state)
     parse_fails("ntile-replay 1\nticks 0\n", "r.ntr:2:7: ticks '0' is out of range 1..100000000");
     parse_fails("ntile-replay 1\nticks 1\nticks 2\n", "r.ntr:3:1: duplicate 'ticks' (first at line 2)");
     parse_fails("ntile-replay 1\ninput 3R\n", "r.ntr:2:1: 'input' before 'ticks' (the tick count must come first)");
-    parse_fails(HEAD "dt 0\n", "r.ntr:4:4: dt must be > 0");
+    parse_fails(HEAD "dt 0\n", "r.ntr:4:4: dt must lie in 1e-06 .. 1 seconds");
     parse_fails(HEAD "dt nan\n", "r.ntr:4:4: dt 'nan' is not a finite number");
     parse_fails(HEAD "seed x\n", "r.ntr:4:6: seed 'x' is not an integer");
     parse_fails(HEAD "friction-model q\n", "r.ntr:4:16: unknown friction model 'q' (expected n or coulomb)");

@@ -1129,6 +1129,30 @@ static void test_object_errors(void **state)
     }
 }
 
+/* A UTF-8 byte order mark before the JSON is skipped (as before the XML); a key
+ * written twice in one object is an error naming the key and both places. */
+static void test_bom_and_duplicate_keys(void **state)
+{
+    (void)state;
+    mspec m = base_map(0);
+    char *text = emit(&m, F_TMJ, "plain.tmj");
+    size_t n = strlen(text);
+    char *bom = malloc(n + 4);
+    assert_non_null(bom);
+    memcpy(bom, "\xef\xbb\xbf", 3);
+    memcpy(bom + 3, text, n + 1);
+    scratch_write("bom.tmj", bom, n + 3);
+    nt_level *lv = NULL;
+    nt_text_error e;
+    nt_status s = import_file("bom.tmj", &lv, &e, NULL);
+    if (s != NT_OK) fail_msg("BOM: %s", e.message);
+    nt_level_destroy(lv);
+    free(bom);
+    free(text);
+    scratch_write_text("dup.tmj", "{\n \"width\": 2,\n \"layers\": [{\"a\": 1, \"b\": {\"a\": 2}}],\n  \"width\": 3\n}\n");
+    expect_error_file("dup.tmj", "dup.tmj:4:3: duplicate key \"width\" (first at line 2, column 2)");
+}
+
 /* Hand-written malformed files: syntax errors with their positions, bad data. */
 static void test_malformed_files(void **state)
 {
@@ -1372,6 +1396,7 @@ int main(void)
         cmocka_unit_test(test_errors_in_specs),
         cmocka_unit_test(test_object_errors),
         cmocka_unit_test(test_malformed_files),
+        cmocka_unit_test(test_bom_and_duplicate_keys),
         cmocka_unit_test(test_out_of_memory),
         cmocka_unit_test(test_cli),
     };

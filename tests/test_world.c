@@ -586,8 +586,12 @@ static void test_velocity_overflow(void **state)
     (void)state;
     nt_world *w = make_world(10, 40, 1);
     nt_body_id id = add_box(w, 5, 5, R(0.25), R(0.25));
-    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, R(3e38))), NT_OK);
-    assert_int_equal(nt_body_set_gravity_scale(w, id, R(3e38)), NT_OK);
+    /* Gravity and scale beyond their ranges are refused; at the largest of both the
+     * velocity after a step is 1e18 / 60, far beyond the limit. */
+    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, R(3e38))), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_body_set_gravity_scale(w, id, R(3e38)), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, (nt_real)NT_MAX_GRAVITY)), NT_OK);
+    assert_int_equal(nt_body_set_gravity_scale(w, id, (nt_real)NT_MAX_GRAVITY_SCALE), NT_OK);
     nt_world_def d = nt_default_world_def();
     nt_real dt = R(1.0 / 60);
     assert_int_equal(nt_world_step(w, dt), NT_OK);

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
 # Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb,
-#                                    valgrind, chipmunk, box2d; tiled: jansson, expat and zlib for the
+#                                    valgrind, chipmunk, box2d, multilib; tiled: jansson, expat and zlib for the
 #                                    Tiled importer of the ntile CLI)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
@@ -13,7 +13,7 @@ have_header() { # $1 = header, $2 = extra flags
 }
 for f in "$@"; do
     case "$f" in
-    cc) command -v "${CC:-cc}" >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || missing="$missing build-essential" ;;
+    cc) command -v "$(echo "${CC:-cc}" | cut -d" " -f1)" >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || missing="$missing build-essential" ;;
     cmocka) have_header cmocka.h -lcmocka || missing="$missing libcmocka-dev" ;;
     cxx) command -v "${CXX:-g++}" >/dev/null 2>&1 || missing="$missing g++" ;;
     chipmunk) have_header chipmunk/chipmunk.h -lchipmunk || missing="$missing libchipmunk-dev" ;;
@@ -36,6 +36,9 @@ for f in "$@"; do
     xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb"
           command -v xauth >/dev/null 2>&1 || missing="$missing xauth" ;; # xvfb-run needs it (only recommended by xvfb)
     valgrind) command -v valgrind >/dev/null 2>&1 || missing="$missing valgrind" ;;
+    multilib) # 32-bit x86 programs from gcc (make determinism)
+        printf '#include <math.h>\nint main(void){return (int)sqrt(4.0);}\n' \
+            | gcc -m32 -x c - -o /dev/null -lm >/dev/null 2>&1 || missing="$missing gcc-multilib" ;;
     *) echo "tools/deps.sh: unknown feature '$f'" >&2; exit 2 ;;
     esac
 done

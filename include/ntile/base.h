@@ -44,7 +44,8 @@ typedef enum nt_status {
     NT_ERR_OUT_OF_MEMORY = -5,    ///< the allocator returned NULL
     NT_ERR_INVALID_ID = -6,       ///< stale or never-issued handle
     NT_ERR_PARSE = -7,            ///< malformed text input
-    NT_ERR_LIMIT = -8             ///< a documented capacity limit was reached
+    NT_ERR_LIMIT = -8,            ///< a documented capacity limit was reached
+    NT_ERR_LOCKED = -9            ///< the world is locked: called from inside one of its callbacks
 } nt_status;
 
 /// A short English description of a status code ("ok", "non-finite number", ...).
@@ -64,12 +65,32 @@ typedef void nt_free_fn(void *ptr, void *user);
 /// that allocated it only if the hook is not changed while objects are alive.
 void nt_set_allocator(nt_alloc_fn *alloc_fn, nt_free_fn *free_fn, void *user);
 
+/// Allocate size bytes through the allocation hook (NULL for size 0 or when it fails),
+/// for layers built on ntile (the game layer) whose memory should obey the same hook.
+void *nt_alloc(size_t size);
+
+/// Release memory from nt_alloc (NULL is ignored).
+void nt_free(void *ptr);
+
 /// Assert hook: called when an internal consistency check fails. Return non-zero to
 /// abort (the default), zero to carry on.
 typedef int nt_assert_fn(const char *condition, const char *file, int line);
 
 /// Replace the assert handler (NULL restores the default, which prints and aborts).
 void nt_set_assert_fn(nt_assert_fn *fn);
+
+/// Cosine and sine of one angle (see nt_compute_cos_sin).
+typedef struct nt_cos_sin {
+    double cosine, sine;
+} nt_cos_sin;
+
+/// Cosine and sine of `radians`, computed by ntile itself (as Box2D v3's b2ComputeCosSin)
+/// with IEEE additions, multiplications and an exact fmod only: the same bits on every
+/// compiler, libm and platform, where libm's sin and cos may differ in the last place.
+/// Within 2e-16 of the true values for |radians| <= 1e6 (a Cody-Waite reduction by
+/// pi/2 and fdlibm's minimax polynomials); beyond that the angle is first reduced
+/// modulo the double nearest 2 pi. Non-finite input gives NaN for both.
+nt_cos_sin nt_compute_cos_sin(double radians);
 
 /// Construct a vector.
 static inline nt_vec2 nt_v2(nt_real x, nt_real y)

@@ -124,7 +124,12 @@ nt_status nt_game_create(const nt_level *level, const nt_game_def *def, nt_game 
 /// Destroy a game and its world (NULL is ignored).
 void nt_game_destroy(nt_game *game);
 
-/// Advance one tick of dt seconds (finite, > 0) with the keys held (NT_INPUT_* bits).
+/// Advance one tick of dt seconds (in [NT_MIN_DT, NT_MAX_DT], else NT_ERR_OUT_OF_RANGE and
+/// nothing changes) with the keys held (NT_INPUT_* bits). All or nothing: a step that
+/// fails (NT_ERR_OUT_OF_MEMORY, NT_ERR_LIMIT from the world step) undoes what the tick
+/// did before the world step (spawned bodies, the player's move, path velocities, the
+/// tick, spawn counts, the random state): nt_game_hash is what it was, and the same call
+/// can be made again. Memory comes from the allocator hook (nt_set_allocator).
 nt_status nt_game_step(nt_game *game, uint32_t keys, nt_real dt);
 
 /// The game's world, for drawing and queries. Change bodies and tiles through the

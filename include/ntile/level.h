@@ -156,6 +156,7 @@ void nt_level_destroy(nt_level *level);
 
 /// Parse a .ntl text. `name` is used only in messages. On failure *out is NULL and
 /// `error` (may be NULL) says where and why.
+/// A UTF-8 byte order mark at the start of the text is skipped.
 nt_status nt_level_parse(const char *name, const char *text, size_t length, nt_level **out, nt_text_error *error);
 
 /// Write the canonical .ntl text of a level into buf (at most cap bytes, always

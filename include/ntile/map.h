@@ -30,6 +30,12 @@ extern "C" {
 /// can be up to 8 cells across. Larger shapes are refused with NT_ERR_SHAPE_TOO_LARGE.
 #define NT_MAX_HALF_CELLS 4
 
+/// Smallest and largest cell size (world units; NT_ERR_OUT_OF_RANGE outside, maps,
+/// worlds and levels alike): speeds, gravity and squared distances in cell units stay
+/// well inside float's range (a denormal cell size put bodies outside the map).
+#define NT_MIN_CELL_SIZE 1e-3f
+#define NT_MAX_CELL_SIZE 1e6f
+
 typedef struct nt_map nt_map;
 
 /// Edge states, as in N.
@@ -39,13 +45,15 @@ typedef enum nt_edge { NT_EDGE_OFF = 0, NT_EDGE_SOLID = 1, NT_EDGE_INTERESTING =
 typedef struct nt_map_def {
     int width;          ///< cells, 1..NT_MAP_MAX_SIDE
     int height;         ///< cells, 1..NT_MAP_MAX_SIDE
-    nt_real cell_size;  ///< world units per cell, finite and > 0
+    nt_real cell_size;  ///< world units per cell, in [NT_MIN_CELL_SIZE, NT_MAX_CELL_SIZE]
 } nt_map_def;
 
 /// Default map definition: 31 x 23 cells of size 24 (N's playable area), all EMPTY.
 nt_map_def nt_default_map_def(void);
 
-/// Create an empty map. On failure *out is set to NULL.
+/// Create an empty map. Errors: NT_ERR_NON_FINITE, NT_ERR_INVALID_ARGUMENT (cell size <= 0),
+/// NT_ERR_OUT_OF_RANGE (a side outside 1..NT_MAP_MAX_SIDE, a cell size outside
+/// [NT_MIN_CELL_SIZE, NT_MAX_CELL_SIZE]), NT_ERR_OUT_OF_MEMORY. On failure *out is set to NULL.
 nt_status nt_map_create(const nt_map_def *def, nt_map **out);
 
 /// Destroy a map (NULL is ignored).
@@ -83,13 +91,20 @@ typedef struct nt_resolution {
     nt_vec2 push;                 ///< displacement that frees the object, world units
     int contact_count;            ///< 0, 1 or 2 surfaces that define the push
     nt_tile_contact contacts[2];
+    nt_status status;             ///< NT_OK, or why the shape was refused (see nt_map_check_shape)
 } nt_resolution;
+
+/// Whether the map's queries accept this shape: NT_ERR_INVALID_ARGUMENT (NULL map,
+/// unknown shape type, negative half-size), NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE
+/// (half-size or radius above NT_MAX_HALF_CELLS cells), else NT_OK.
+nt_status nt_map_check_shape(const nt_map *map, nt_shape shape);
 
 /// Compute the displacement that frees a box or circle (centre `pos`, world units)
 /// from every tile of the map: the shortest way out of the union of the tiles. Seams
 /// between solid tiles never push. Returns false (and a zero result) when the object
-/// overlaps nothing. The half-size (or radius) must be at most NT_MAX_HALF_CELLS cells
-/// (checked by the callers that accept user input; here it is an assertion). Objects
+/// overlaps nothing. A shape nt_map_check_shape refuses (half-size above
+/// NT_MAX_HALF_CELLS cells, say) is refused before any work, whatever the assert hook
+/// does: false, a zero push, and the reason in out->status. Objects
 /// up to half a cell take the fast path; larger ones cost more: a long box on a floor
 /// stays cheap (one push for all the tiles under it), a box wedged in a corner or sunk
 /// deep in a mass of tiles searches the boundary curves within reach of its depth.
@@ -100,7 +115,8 @@ typedef struct nt_resolution {
 /// for that position to 1e-5 cell in float, 1e-9 in double (tests/test_far.c).
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out);
 
-/// Largest single-tile penetration depth (world units) of the object at `pos`; 0 when free.
+/// Largest single-tile penetration depth (world units) of the object at `pos`; 0 when free,
+/// and 0 without any work for a shape nt_map_check_shape refuses.
 nt_real nt_map_overlap_depth(const nt_map *map, nt_vec2 pos, nt_shape shape);
 
 /// A ray-cast result.

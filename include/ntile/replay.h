@@ -94,7 +94,7 @@ typedef struct nt_replay {
     char level[NT_REPLAY_PATH_MAX];     ///< level file, relative to the replay's directory
     bool has_seed;
     uint64_t seed;                      ///< overrides the level's seed when has_seed
-    nt_real dt;                         ///< seconds per tick, > 0 (default 1/40)
+    nt_real dt;                         ///< seconds per tick, in [NT_MIN_DT, NT_MAX_DT] (default 1/40)
     int ticks;                          ///< ticks to run, 1..NT_REPLAY_MAX_TICKS
     bool has_friction_model;
     nt_friction_model friction_model;   ///< overrides the level's when has_friction_model
@@ -113,6 +113,7 @@ nt_status nt_replay_create(int ticks, nt_replay **out);
 void nt_replay_destroy(nt_replay *replay);
 
 /// Parse a .ntr text; on failure *out is NULL and `error` says where and why.
+/// A UTF-8 byte order mark at the start of the text is skipped.
 nt_status nt_replay_parse(const char *name, const char *text, size_t length, nt_replay **out, nt_text_error *error);
 
 /// Write the canonical .ntr text (same contract as nt_level_write).

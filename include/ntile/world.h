@@ -120,6 +120,25 @@ typedef struct nt_material {
 #define NT_MIN_MASS 1e-12f
 #define NT_MAX_MASS 1e12f
 
+/// A step's dt must lie in [NT_MIN_DT, NT_MAX_DT] seconds (else NT_ERR_OUT_OF_RANGE), in
+/// nt_world_step, the game layer, replays and the CLI alike: the solver divides by dt
+/// and scales warm-started impulses by the ratio of consecutive dts.
+#define NT_MIN_DT 1e-6f
+#define NT_MAX_DT 1.0f
+
+/// Each component of the world's gravity must lie in [-NT_MAX_GRAVITY, NT_MAX_GRAVITY]
+/// world units / s^2, and a body's gravity scale in [-NT_MAX_GRAVITY_SCALE,
+/// NT_MAX_GRAVITY_SCALE] (else NT_ERR_OUT_OF_RANGE): their product times NT_MAX_DT and
+/// its square stay finite in float (huge finite gravity used to launch resting bodies).
+#define NT_MAX_GRAVITY 1e12f
+#define NT_MAX_GRAVITY_SCALE 1e6f
+
+/// Most body contacts (pairs within the contact margin, sensor overlaps included) a step
+/// may hold: a step that would find more (thousands of bodies piled at one point: 1,450
+/// overlapping bodies make a million pairs) returns NT_ERR_LIMIT before it changes
+/// anything, instead of exhausting memory (about 150 MB of contact arrays at the cap).
+#define NT_MAX_CONTACTS (1 << 20)
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -131,7 +150,7 @@ typedef struct nt_material {
 /// World definition: fill with nt_default_world_def() then adjust.
 typedef struct nt_world_def {
     nt_map_def map;                   ///< the tile map (all EMPTY at creation)
-    nt_vec2 gravity;                  ///< world units / s^2; y down
+    nt_vec2 gravity;                  ///< world units / s^2; y down; each part within NT_MAX_GRAVITY
     nt_friction_model friction_model; ///< for every contact of the world
     nt_material tile_material;        ///< material 0, used by every cell until told otherwise
     nt_real restitution_threshold;    ///< approach speeds below this do not bounce (units/s, >= 0)
@@ -153,13 +172,19 @@ typedef struct nt_world_def {
 /// and 4 position iterations. Speeds are world units: scale them with cell_size.
 nt_world_def nt_default_world_def(void);
 
-/// Create a world. On failure *out is NULL.
+/// Create a world. Errors: NT_ERR_NON_FINITE, NT_ERR_INVALID_ARGUMENT, NT_ERR_OUT_OF_RANGE
+/// (a map the map refuses, gravity beyond NT_MAX_GRAVITY, iterations or speed limit out of
+/// range), NT_ERR_OUT_OF_MEMORY. On failure *out is NULL.
 nt_status nt_world_create(const nt_world_def *def, nt_world **out);
 
 /// Destroy a world and every body in it (NULL is ignored).
 void nt_world_destroy(nt_world *world);
 
-/// Advance the world by dt seconds (finite, > 0). Events of the previous step are discarded.
+/// Advance the world by dt seconds, dt in [NT_MIN_DT, NT_MAX_DT] (NT_ERR_NON_FINITE,
+/// NT_ERR_INVALID_ARGUMENT for dt <= 0, NT_ERR_OUT_OF_RANGE otherwise; the world is then
+/// unchanged). NT_ERR_LIMIT: the step would hold more than NT_MAX_CONTACTS contacts (the
+/// world is unchanged; separate the bodies). Events of the previous step are discarded.
+/// Static bodies never get a velocity.
 nt_status nt_world_step(nt_world *world, nt_real dt);
 
 /// The world's tile map, for map queries. Change tiles through the world.
@@ -192,7 +217,7 @@ nt_status nt_world_set_cell_flags(nt_world *world, int x, int y, uint32_t flags)
 /// A cell's flags (0 outside the map).
 uint32_t nt_world_get_cell_flags(const nt_world *world, int x, int y);
 
-/// Change gravity (finite); wakes every body.
+/// Change gravity (finite, each part within NT_MAX_GRAVITY, else NT_ERR_OUT_OF_RANGE); wakes every body.
 nt_status nt_world_set_gravity(nt_world *world, nt_vec2 gravity);
 
 /// The world's gravity.
@@ -253,7 +278,7 @@ typedef struct nt_body_def {
     nt_vec2 position;      ///< centre
     nt_vec2 velocity;      ///< units/s (ignored for static bodies)
     nt_real mass;          ///< > 0 for dynamic bodies; ignored otherwise
-    nt_real gravity_scale; ///< multiplies the world's gravity
+    nt_real gravity_scale; ///< multiplies the world's gravity; within NT_MAX_GRAVITY_SCALE
     nt_real linear_drag;   ///< >= 0: v *= 1 / (1 + drag * dt) each step
     nt_material material;  ///< default {0.05, 0.3} (N's values)
     uint32_t category;     ///< bits this body is (default 1)
@@ -274,7 +299,7 @@ nt_body_def nt_default_body_def(void);
 /// Add a body. Errors: NT_ERR_NON_FINITE, NT_ERR_SHAPE_TOO_LARGE (half-size or radius above
 /// NT_MAX_HALF_CELLS cells), NT_ERR_OUT_OF_RANGE (position farther than NT_WORLD_REACH_CELLS
 /// from the map; a body above half a cell not wholly inside the map; a dynamic body's mass
-/// outside [NT_MIN_MASS, NT_MAX_MASS]), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
+/// outside [NT_MIN_MASS, NT_MAX_MASS]; a gravity scale beyond NT_MAX_GRAVITY_SCALE), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
 /// unequal halves, mass <= 0 for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
 /// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
@@ -317,7 +342,7 @@ nt_material nt_body_get_material(const nt_world *world, nt_body_id id);
 /// Set the body's material (checked against the world's friction model).
 nt_status nt_body_set_material(nt_world *world, nt_body_id id, nt_material material);
 
-/// Set gravity scale (finite).
+/// Set gravity scale (finite, within NT_MAX_GRAVITY_SCALE, else NT_ERR_OUT_OF_RANGE).
 nt_status nt_body_set_gravity_scale(nt_world *world, nt_body_id id, nt_real scale);
 
 /// Set linear drag (finite, >= 0).
@@ -537,8 +562,16 @@ typedef struct nt_debug_draw {
 /// No callbacks, no rays; tiles and bodies on, everything else off; projection_scale 1.
 nt_debug_draw nt_default_debug_draw(void);
 
-/// Draw the world through the callbacks.
+/// Draw the world through the callbacks. The world is locked while they run.
 void nt_world_draw(const nt_world *world, const nt_debug_draw *draw);
+
+/// True while the world runs one of its callbacks (nt_world_draw's, a query's nt_query_fn,
+/// a query filter's accept in ray casts, shape casts and overlap queries), as Box2D's
+/// b2World_IsLocked. Every call that would change the world made then (creating or
+/// destroying bodies, setters, tiles, materials, steps, characters) returns
+/// NT_ERR_LOCKED and changes nothing; nt_world_destroy and nt_world_enable_profile are
+/// ignored. Reading the world and nested queries are allowed.
+bool nt_world_is_locked(const nt_world *world);
 
 #ifdef __cplusplus
 }

@@ -39,8 +39,9 @@ nt_vec2 nt_path_position(const nt_level_path *p, double time, double phase)
     if (p->mode == NT_PATH_ORBIT) {
         const double two_pi = 6.283185307179586;
         double a = two_pi * phase + time * (double)p->speed / (double)p->radius;
-        return nt_v2((nt_real)((double)p->center.x + (double)p->radius * cos(a)),
-                     (nt_real)((double)p->center.y + (double)p->radius * sin(a)));
+        nt_cos_sin cs = nt_compute_cos_sin(a); /* ntile's own: the same bits everywhere */
+        return nt_v2((nt_real)((double)p->center.x + (double)p->radius * cs.cosine),
+                     (nt_real)((double)p->center.y + (double)p->radius * cs.sine));
     }
     int n = p->point_count;
     if (n < 2) return n == 1 ? p->points[0] : nt_v2(0, 0);
@@ -88,17 +89,21 @@ static nt_status add_record(nt_game *g, nt_body_id id, int source, int level_bod
 {
     if (g->body_count == g->body_cap) {
         int cap = g->body_cap ? g->body_cap * 2 : 64;
-        game_body *nb = realloc(g->bodies, (size_t)cap * sizeof *nb);
+        game_body *nb = nt_alloc((size_t)cap * sizeof *nb);
         if (!nb) return NT_ERR_OUT_OF_MEMORY;
+        if (g->body_count) memcpy(nb, g->bodies, (size_t)g->body_count * sizeof *nb);
+        nt_free(g->bodies);
         g->bodies = nb;
         g->body_cap = cap;
     }
     if (id.index1 > g->slot_cap) {
         int cap = g->slot_cap ? g->slot_cap : 64;
         while (cap < id.index1) cap *= 2;
-        int *ns = realloc(g->slot_record, (size_t)cap * sizeof *ns);
+        int *ns = nt_alloc((size_t)cap * sizeof *ns);
         if (!ns) return NT_ERR_OUT_OF_MEMORY;
+        if (g->slot_cap) memcpy(ns, g->slot_record, (size_t)g->slot_cap * sizeof *ns);
         for (int i = g->slot_cap; i < cap; i++) ns[i] = -1;
+        nt_free(g->slot_record);
         g->slot_record = ns;
         g->slot_cap = cap;
     }
@@ -157,8 +162,11 @@ void nt_game_destroy(nt_game *g)
 {
     if (!g) return;
     nt_world_destroy(g->world);
-    free(g->bodies);
-    free(g->slot_record);
+    nt_free(g->bodies);
+    nt_free(g->slot_record);
+    nt_free(g->saved_spawn_counts);
+    nt_free(g->saved_path_vel);
+    nt_free(g->touched);
     free(g->level_first);
     free(g->spawn_counts);
     free(g);
@@ -419,9 +427,10 @@ uint64_t nt_game_hash(const nt_game *g)
 
 /* ---------------------------------------------------------------- one tick */
 
-static void move_path_bodies(nt_game *g, nt_real dt)
+static void move_path_bodies(nt_game *g, nt_real dt, int save)
 {
     const nt_level *lv = g->level;
+    int n = 0;
     double t1 = g->time + (double)dt;
     for (int i = 0; i < g->body_count; i++) {
         game_body *b = &g->bodies[i];
@@ -431,8 +440,33 @@ static void move_path_bodies(nt_game *g, nt_real dt)
         /* Aim at where the path is at the end of the tick: no drift, however long it runs. */
         nt_vec2 target = nt_path_position(&lv->paths[lb->path], t1, (double)lb->phase);
         nt_vec2 p = nt_body_get_position(g->world, b->id);
+        if (save) g->saved_path_vel[n++] = nt_body_get_velocity(g->world, b->id);
         nt_body_set_velocity(g->world, b->id, nt_v2((target.x - p.x) / dt, (target.y - p.y) / dt));
     }
+}
+
+/* The path bodies' velocities back as move_path_bodies found them. */
+static void restore_path_bodies(nt_game *g)
+{
+    const nt_level *lv = g->level;
+    int n = 0;
+    for (int i = 0; i < g->body_count; i++) {
+        game_body *b = &g->bodies[i];
+        if (!b->alive || b->level_body < 0) continue;
+        const nt_level_body *lb = &lv->bodies[b->level_body];
+        if (lb->path < 0 || b->source != GB_LEVEL) continue;
+        nt_body_set_velocity(g->world, b->id, g->saved_path_vel[n++]);
+    }
+}
+
+static int path_body_count(const nt_game *g)
+{
+    int n = 0;
+    for (int i = 0; i < g->body_count; i++) {
+        const game_body *b = &g->bodies[i];
+        if (b->alive && b->level_body >= 0 && b->source == GB_LEVEL && g->level->bodies[b->level_body].path >= 0) n++;
+    }
+    return n;
 }
 
 static nt_status spawn(nt_game *g, int si)
@@ -500,10 +534,13 @@ static void apply_events(nt_game *g)
     nt_body_id near[16];
     int nn = g->dead ? 0 : nt__player_touches(g, near, 16);
     if (nn > 16) nn = 16; /* the rest on the next ticks (gold goes as it is taken) */
-    int n = se.begin_count + ce.begin_count + nn;
+    int n = nn;
+    for (int i = 0; i < se.begin_count; i++) n += nt_body_id_equals(se.begin_events[i].visitor, pid);
+    for (int i = 0; i < ce.begin_count; i++)
+        n += nt_body_id_equals(ce.begin_events[i].a, pid) || nt_body_id_equals(ce.begin_events[i].b, pid);
     if (n == 0) return;
-    nt_body_id *touched = malloc((size_t)n * sizeof *touched);
-    if (!touched) return;
+    if (n > g->touched_cap) return; /* cannot happen: reserved before the step */
+    nt_body_id *touched = g->touched;
     int m = 0;
     for (int i = 0; i < nn; i++) touched[m++] = near[i];
     for (int i = 0; i < se.begin_count; i++)
@@ -522,7 +559,6 @@ static void apply_events(nt_game *g)
             remove_body(g, b);
         }
     }
-    free(touched);
 }
 
 static void apply_regions(nt_game *g)
@@ -557,19 +593,80 @@ static void apply_regions(nt_game *g)
     }
 }
 
+/* Everything a step of the game may allocate outside the world, before it changes
+ * anything: the undo buffers and room for every touch of the player (a contact and a
+ * sensor begin per body of the world, this tick's spawns included, and 16 near ones). */
+static nt_status reserve_step(nt_game *g)
+{
+    int ns = g->level->spawner_count;
+    if (ns > 0 && !g->saved_spawn_counts) {
+        g->saved_spawn_counts = nt_alloc((size_t)ns * sizeof *g->saved_spawn_counts);
+        if (!g->saved_spawn_counts) return NT_ERR_OUT_OF_MEMORY;
+    }
+    int np = path_body_count(g);
+    if (np > g->path_cap) {
+        nt_vec2 *v = nt_alloc((size_t)np * sizeof *v);
+        if (!v) return NT_ERR_OUT_OF_MEMORY;
+        nt_free(g->saved_path_vel);
+        g->saved_path_vel = v;
+        g->path_cap = np;
+    }
+    int nt = 2 * (nt_world_get_body_count(g->world) + ns) + 16;
+    if (nt > g->touched_cap) {
+        int cap = nt + nt / 2;
+        nt_body_id *t = nt_alloc((size_t)cap * sizeof *t);
+        if (!t) return NT_ERR_OUT_OF_MEMORY;
+        nt_free(g->touched);
+        g->touched = t;
+        g->touched_cap = cap;
+    }
+    return NT_OK;
+}
+
 nt_status nt_game_step(nt_game *g, uint32_t keys, nt_real dt)
 {
     if (!g) return NT_ERR_INVALID_ARGUMENT;
     if (!isfinite(dt)) return NT_ERR_NON_FINITE;
     if (dt <= 0) return NT_ERR_INVALID_ARGUMENT;
+    if (dt < (nt_real)NT_MIN_DT || dt > (nt_real)NT_MAX_DT) return NT_ERR_OUT_OF_RANGE;
+    nt_status s = reserve_step(g);
+    if (s != NT_OK) return s;
+    /* What the tick changes before the world step, kept to undo it if the step fails. */
+    const int tick0 = g->tick, spawned0 = g->spawned, count0 = g->body_count;
+    const nt_rng rng0 = g->rng;
+    const player_state ps0 = g->ps;
+    nt_vec2 pp0 = nt_v2(0, 0), pv0 = nt_v2(0, 0);
+    nt_body_id pid = g->player_record >= 0 ? g->bodies[g->player_record].id : nt_null_body_id();
+    if (g->player_record >= 0) {
+        pp0 = nt_body_get_position(g->world, pid);
+        pv0 = nt_body_get_velocity(g->world, pid);
+    }
+    if (g->level->spawner_count > 0)
+        memcpy(g->saved_spawn_counts, g->spawn_counts, (size_t)g->level->spawner_count * sizeof *g->spawn_counts);
     uint32_t pressed = keys & ~g->prev_keys;
     g->tick++;
-    move_path_bodies(g, dt);
-    nt_status s = run_spawners(g, pressed);
-    if (s != NT_OK) return s;
-    if (g->player_record >= 0) nt__player_control(g, keys, dt);
-    s = nt_world_step(g->world, dt);
-    if (s != NT_OK) return s;
+    move_path_bodies(g, dt, 1);
+    s = run_spawners(g, pressed);
+    if (s == NT_OK) {
+        if (g->player_record >= 0) nt__player_control(g, keys, dt);
+        s = nt_world_step(g->world, dt);
+    }
+    if (s != NT_OK) {
+        /* Undo, newest first: spawned bodies, the player's move, the paths, counters. */
+        while (g->body_count > count0) remove_body(g, &g->bodies[--g->body_count]);
+        if (g->player_record >= 0) {
+            nt_body_set_position(g->world, pid, pp0);
+            nt_body_set_velocity(g->world, pid, pv0);
+        }
+        g->ps = ps0;
+        restore_path_bodies(g);
+        if (g->level->spawner_count > 0)
+            memcpy(g->spawn_counts, g->saved_spawn_counts, (size_t)g->level->spawner_count * sizeof *g->spawn_counts);
+        g->rng = rng0;
+        g->spawned = spawned0;
+        g->tick = tick0;
+        return s;
+    }
     g->time += (double)dt;
     g->prev_keys = keys;
     apply_events(g);

@@ -5,6 +5,10 @@
 #include "ntile/character.h"
 #include "ntile/game.h"
 
+#if defined(__FLT_EVAL_METHOD__) && __FLT_EVAL_METHOD__ != 0
+#error "ntile needs FLT_EVAL_METHOD 0 (no excess precision): on 32-bit x86 build with -msse2 -mfpmath=sse"
+#endif
+
 /* What made a body. */
 enum { GB_LEVEL = 0, GB_PLAYER = 1, GB_SPAWNED = 2, GB_ADDED = 3 };
 
@@ -47,6 +51,12 @@ struct nt_game {
     int tick, score, complete_tick, death_tick, spawned;
     bool complete, dead;
     bool has_score_or_kill; /* some region acts on bodies other than the player */
+    /* Undo of a step that fails (nt_alloc'd; reserved before the step changes anything). */
+    int *saved_spawn_counts;  /* per spawner */
+    nt_vec2 *saved_path_vel;  /* per path body, in record order */
+    int path_cap;
+    nt_body_id *touched;      /* apply_events' copy of the player's touches */
+    int touched_cap;
 };
 
 /* The record of a live body, or NULL. */

@@ -39,7 +39,7 @@ static bool wall_at(const nt_game *g, nt_body_id id, nt_vec2 pos, int dir)
     nt_world_shape_hit h;
     nt_vec2 d = nt_v2((nt_real)dir * g->cell * (nt_real)0.01, 0);
     if (!nt_world_cast_shape(g->world, pos, nt_body_get_shape(g->world, id), d, self_filter(id), &h)) return false;
-    nt_real c = (nt_real)cos((double)g->def.player.mover.floor_angle);
+    nt_real c = (nt_real)nt_compute_cos_sin((double)g->def.player.mover.floor_angle).cosine;
     return h.normal.x * (nt_real)dir < 0 && -h.normal.y < c && h.normal.y < c;
 }
 

@@ -7,6 +7,12 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* The largest file any ntile tool reads (levels, replays, Tiled maps, scripts, CSVs):
+ * 256 MiB, above the largest level (4096 x 4096 cells with materials and flags). */
+#define STREAM_MAX_FILE ((size_t)1 << 28)
 
 enum { STREAM_OK, STREAM_NO_MEMORY, STREAM_READ_ERROR };
 
@@ -46,6 +52,46 @@ static inline int stream_read_all(FILE *f, size_t limit, char **out, size_t *len
     *out = buf;
     *len = n;
     return STREAM_OK;
+}
+
+/* 1 when the open stream f (of `path`) is a regular file of at most `limit` bytes;
+ * otherwise 0 and a message naming the path in why ("'levels' is a directory, not a
+ * file", "'/dev/zero' is not a regular file", "... is larger than N bytes"). */
+static inline int stream_check_regular(FILE *f, const char *path, size_t limit, char *why, size_t cap)
+{
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) {
+        snprintf(why, cap, "cannot read '%s': %s", path, strerror(errno));
+        return 0;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, cap, S_ISDIR(st.st_mode) ? "'%s' is a directory, not a file" : "'%s' is not a regular file",
+                 path);
+        return 0;
+    }
+    if ((unsigned long long)st.st_size > (unsigned long long)limit) {
+        snprintf(why, cap, "'%s' is larger than %zu bytes", path, limit);
+        return 0;
+    }
+    return 1;
+}
+
+/* Opens `path` for reading when it is a regular file of at most `limit` bytes; otherwise
+ * NULL and why says so, naming the path (or why it would not open). Every file reader
+ * of the tools goes through here or stream_check_regular: a device, a FIFO or a
+ * directory is never read, and nothing is read without a limit. */
+static inline FILE *stream_open_regular(const char *path, size_t limit, char *why, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(why, cap, "cannot open '%s': %s", path, strerror(errno));
+        return NULL;
+    }
+    if (!stream_check_regular(f, path, limit, why, cap)) {
+        fclose(f);
+        return NULL;
+    }
+    return f;
 }
 
 #endif

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "play.h"
+#include "../common/stream.h"
 #include "png.h"
 
 enum { EXIT_USAGE = 2 };
@@ -120,9 +121,10 @@ static int parse_double(const char *s, double *out)
 
 static int load_script(const char *path, script *s)
 {
-    FILE *f = fopen(path, "r");
+    char open_why[600];
+    FILE *f = stream_open_regular(path, STREAM_MAX_FILE, open_why, sizeof open_why);
     if (!f) {
-        fprintf(stderr, "ntile-play: cannot open script '%s': %s\n", path, strerror(errno));
+        fprintf(stderr, "ntile-play: script: %s\n", open_why);
         return 0;
     }
     char line[512];

@@ -102,12 +102,9 @@ static int read_file(const char *path, char **out, size_t *len, char *why, size_
 {
     *out = NULL;
     *len = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(why, cap, "cannot open '%s': %s", path, strerror(errno));
-        return 0;
-    }
-    int r = stream_read_all(f, (size_t)1 << 30, out, len);
+    FILE *f = stream_open_regular(path, STREAM_MAX_FILE, why, cap);
+    if (!f) return 0;
+    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
     fclose(f);
     if (r != STREAM_OK) {
         snprintf(why, cap, "cannot read '%s'%s", path, r == STREAM_NO_MEMORY ? ": out of memory or too large" : "");

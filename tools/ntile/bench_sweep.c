@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* ntile bench sweep / plot — run time against error.
  *
  * `ntile bench sweep [--runs N] [--out FILE.csv]` runs the world with one setting
@@ -22,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bench.h"
+#include "../common/stream.h"
 #include "cli.h"
 #include "engine.h"
 #include "plot.h"
@@ -156,9 +158,10 @@ int bench_plot(const bench_opts *opts, int nargs, char **args)
     int n = 0, rc = CLI_USAGE;
     if (!rows || !pa || !pb) goto done;
     for (int f = 0; f < nargs; f++) {
-        FILE *in = fopen(args[f], "r");
+        char why[600];
+        FILE *in = stream_open_regular(args[f], STREAM_MAX_FILE, why, sizeof why);
         if (!in) {
-            fprintf(stderr, "ntile bench plot: cannot read '%s'\n", args[f]);
+            fprintf(stderr, "ntile bench plot: %s\n", why);
             goto done;
         }
         char line[512];

@@ -28,15 +28,12 @@ int cli_read_file(const char *path, char **out, size_t *len, char *why, size_t w
 {
     *out = NULL;
     *len = 0;
-    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
-    if (!f) {
-        snprintf(why, why_cap, "cannot open '%s': %s", path, strerror(errno));
-        return 0;
-    }
-    int r = stream_read_all(f, (size_t)-1 / 4 + 1, out, len);
+    FILE *f = strcmp(path, "-") == 0 ? stdin : stream_open_regular(path, STREAM_MAX_FILE, why, why_cap);
+    if (!f) return 0;
+    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
     if (f != stdin) fclose(f);
     if (r == STREAM_NO_MEMORY) {
-        snprintf(why, why_cap, "out of memory reading '%s'", path);
+        snprintf(why, why_cap, "out of memory reading '%s' (or larger than %zu bytes)", path, STREAM_MAX_FILE);
         return 0;
     }
     if (r == STREAM_READ_ERROR) {
@@ -502,7 +499,8 @@ int cli_run(int argc, char **argv)
             } else if (strcmp(a, "--dt") == 0) {
                 char *end;
                 double d = strtod(val, &end);
-                if (end == val || *end || !(d > 0) || d > 1e6) status = usage_error("--dt needs a positive number of seconds, got '%s'", val);
+                if (end == val || *end || !((nt_real)d >= (nt_real)NT_MIN_DT && (nt_real)d <= (nt_real)NT_MAX_DT))
+                    status = usage_error("--dt needs a number of seconds in 1e-06 .. 1 (NT_MIN_DT .. NT_MAX_DT), got '%s'", val);
                 dt = (nt_real)d;
             } else {
                 if (strcmp(val, "n") == 0) model = NT_FRICTION_N;

@@ -36,6 +36,7 @@
  *              FULL tile
  */
 #include "scene.h"
+#include "ntile/base.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -206,8 +207,8 @@ static int make_world_scene(scene *s, const char *name, const char *summary, wor
             b->bounce = 0;
         } else if (kind == KIND_SPARSE) {
             double a = bench_rng_range(&rng, 0, 6.283185307179586), sp = bench_rng_range(&rng, 2.5, 8) * CELL;
-            b->vx = sp * cos(a);
-            b->vy = sp * sin(a);
+            b->vx = sp * nt_compute_cos_sin(a).cosine;
+            b->vy = sp * nt_compute_cos_sin(a).sine;
         } else {
             b->vx = bench_rng_range(&rng, -2, 2) * CELL;
             b->vy = bench_rng_range(&rng, 0, 2) * CELL;
@@ -395,7 +396,7 @@ static int make_gas(scene *s)
         int cx = 1 + 1 + (i % 20) * 3 / 2, cy = 4 + (i / 20) * 3 / 2; /* spread over the room */
         double half = bench_rng_range(&rng, 0.2, 0.35) * CELL;
         double a = bench_rng_range(&rng, 0, 6.283185307179586), sp = bench_rng_range(&rng, 2, 6) * CELL;
-        scene_body *b = add_body(s, i & 1, half, (cx + 0.5) * CELL, (cy + 0.5) * CELL, sp * cos(a), sp * sin(a));
+        scene_body *b = add_body(s, i & 1, half, (cx + 0.5) * CELL, (cy + 0.5) * CELL, sp * nt_compute_cos_sin(a).cosine, sp * nt_compute_cos_sin(a).sine);
         b->friction = 0;
         b->bounce = 1;
         b->role = ROLE_ENERGY;
@@ -550,8 +551,8 @@ static int make_tunnel(scene *s)
                 double cx = (bx + 0.5) * CELL, cy = (by + 0.5) * CELL;
                 double speed = (2 + v) * CELL / DT; /* cells per step */
                 double half = (v % 2 ? 0.1 : 0.25) * CELL;
-                scene_body *b = add_body(s, (d + v) & 1, half, cx + 3.5 * CELL * cos(a), cy + 3.5 * CELL * sin(a),
-                                         -speed * cos(a), -speed * sin(a));
+                scene_body *b = add_body(s, (d + v) & 1, half, cx + 3.5 * CELL * nt_compute_cos_sin(a).cosine, cy + 3.5 * CELL * nt_compute_cos_sin(a).sine,
+                                         -speed * nt_compute_cos_sin(a).cosine, -speed * nt_compute_cos_sin(a).sine);
                 b->collide_bodies = 0;
             }
     }

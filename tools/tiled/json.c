@@ -190,11 +190,80 @@ static nt_status read_tiles(const jr *r, const json_t *o, tl_tileset *ts)
     return NT_OK;
 }
 
+/* Line and byte column (1-based) of text[off]. */
+static void text_line_col(const char *text, size_t off, int *line, int *col)
+{
+    int l = 1;
+    size_t ls = 0;
+    for (size_t i = 0; i < off; i++)
+        if (text[i] == '\n') l++, ls = i + 1;
+    *line = l;
+    *col = (int)(off - ls) + 1;
+}
+
+/* The first key written twice in one object (as written: escapes are compared as
+ * they stand), scanning the JSON text: its offset and the offset of its first
+ * occurrence. 0 when there is none. Runs only after jansson has refused a duplicate,
+ * to say where both are. */
+static int first_duplicate_key(const char *text, size_t len, size_t *first, size_t *second, size_t *klen)
+{
+    enum { MAXK = 4096, MAXD = 256 };
+    static size_t koff[MAXK], kl[MAXK];
+    static int kdepth[MAXK];
+    static char in_object[MAXD];
+    int nk = 0, depth = 0;
+    for (size_t i = 0; i < len; i++) {
+        char ch = text[i];
+        if (ch == '{' || ch == '[') {
+            if (++depth >= MAXD) return 0;
+            in_object[depth] = ch == '{';
+        } else if (ch == '}' || ch == ']') {
+            while (nk > 0 && kdepth[nk - 1] == depth) nk--;
+            if (--depth < 0) return 0;
+        } else if (ch == '"') {
+            size_t start = i++;
+            while (i < len && text[i] != '"') i += text[i] == '\\' ? 2 : 1;
+            if (i >= len) return 0;
+            size_t j = i + 1;
+            while (j < len && (text[j] == ' ' || text[j] == '\t' || text[j] == '\r' || text[j] == '\n')) j++;
+            if (depth > 0 && in_object[depth] && j < len && text[j] == ':') {
+                size_t n = i + 1 - start;
+                for (int k = nk - 1; k >= 0 && kdepth[k] == depth; k--)
+                    if (kl[k] == n && memcmp(text + koff[k], text + start, n) == 0) {
+                        *first = koff[k];
+                        *second = start;
+                        *klen = n;
+                        return 1;
+                    }
+                if (nk == MAXK) return 0;
+                koff[nk] = start;
+                kl[nk] = n;
+                kdepth[nk++] = depth;
+            }
+        }
+    }
+    return 0;
+}
+
 static json_t *load(const jr *r, const char *text, size_t len)
 {
     json_error_t e;
-    json_t *root = json_loadb(text, len, 0, &e);
+    /* A UTF-8 byte order mark (as some editors save) is skipped. */
+    size_t bom = len >= 3 && (unsigned char)text[0] == 0xef && (unsigned char)text[1] == 0xbb &&
+                         (unsigned char)text[2] == 0xbf ? 3 : 0;
+    /* Duplicate keys are refused: Tiled never writes them, and jansson would keep the
+     * last one silently. */
+    json_t *root = json_loadb(text + bom, len - bom, JSON_REJECT_DUPLICATES, &e);
     if (!root) {
+        size_t a, b, n;
+        if (strstr(e.text, "duplicate") && first_duplicate_key(text, len, &a, &b, &n)) {
+            int l1, c1, l2, c2;
+            text_line_col(text, a, &l1, &c1);
+            text_line_col(text, b, &l2, &c2);
+            tl_loc at = {r->file, l2, c2};
+            tl_fail(r->c, at, "duplicate key %.*s (first at line %d, column %d)", n > 200 ? 200 : (int)n, text + b, l1, c1);
+            return NULL;
+        }
         tl_loc at = {r->file, e.line > 0 ? e.line : 0, e.line > 0 ? e.column : 0};
         if (at.line > 0 && at.col < 1) at.col = 1;
         tl_fail(r->c, at, "bad JSON: %s", e.text);

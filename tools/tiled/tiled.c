@@ -314,13 +314,11 @@ static int read_whole(const char *path, char **out, size_t *len, char *why, size
         snprintf(why, cap, "%s", strerror(errno));
         return 0;
     }
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) { /* not /dev/zero, a FIFO or a directory */
-        snprintf(why, cap, "not a regular file");
+    if (!stream_check_regular(f, path, STREAM_MAX_FILE, why, cap)) { /* not /dev/zero, a FIFO or a directory */
         fclose(f);
         return 0;
     }
-    int r = stream_read_all(f, (size_t)-1 / 4 + 1, out, len);
+    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
     if (r == STREAM_READ_ERROR) snprintf(why, cap, "%s", strerror(errno));
     fclose(f);
     if (r == STREAM_NO_MEMORY) snprintf(why, cap, "out of memory");
