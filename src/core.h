@@ -416,11 +416,12 @@ struct nt_world {
     int32_t *wake_list;        /* bodies to wake after pair finding (capacity body_cap) */
     nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
-    int32_t *level;            /* per body: touching contacts from the ground, this step (response.c) */
+    int32_t *level;            /* per body: contacts from the ground, this step's solve; then the
+                                * correction after the move's queue (response.c) */
     int32_t *level_q;          /* 3 per body: contact list starts and ends, bodies by level (response.c) */
     int32_t *adj;              /* 2 per contact: the bodies' contact lists */
     int adj_cap;
-    int leveled, level_count;  /* level[] holds this step's levels; bodies with one */
+    int leveled, level_count;  /* level[] held this step's levels (until the move); bodies with one */
     int kicked_count;          /* bodies marked NT__MF_KICKED this step */
     int wake_count;
     nt_world_counters counters;

@@ -641,7 +641,10 @@ static void build_contact_lists(nt_world *w)
             int32_t i = s2 ? ib : ia;
             const nt__body *bi = s2 ? b : a;
             if ((s2 ? wb : wa) <= 0 || lv[i] == 0) continue;
-            int root = (s2 ? wa : wb) <= 0;
+            /* Held up by a body that does not move (its push on i, along n for b and -n
+             * for a, against gravity: not one touched from the side), or by a tile. */
+            nt_real ng = s2 ? nt__dot(c->n, g) : -nt__dot(c->n, g);
+            int root = (s2 ? wa : wb) <= 0 && ng < 0;
             for (int t = 0; t < bi->ntc && !root; t++) root = nt__dot(bi->tc[t].n, g) < 0;
             if (root) {
                 lv[i] = 0;
@@ -710,7 +713,7 @@ typedef struct moved_set {
 
 /* Push bodies ia and ib apart when they overlap deeper than the skin, by inverse mass.
  * Returns which moved (1: a, 2: b). */
-static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, int by_level)
+static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms)
 {
     nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
     nt_real wa = solver_w(a), wb = solver_w(b);
@@ -731,13 +734,12 @@ static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, int by_
      * otherwise creep into it). */
     int ha = wa > 0 && held(a, m.normal), hb = wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y));
     if (ha && !hb) wa = 0;
-    else if (hb && !ha) wb = 0;
-    else if (by_level && wa > 0 && wb > 0 && w->level[ia] != w->level[ib]) {
-        if (w->level[ia] < w->level[ib]) wa = 0;
-        else wb = 0;
-    }
+    if (hb && !ha) wb = 0;
     if (wa + wb <= 0) return 0;
-    nt_real sa = d * wa / (wa + wb), sb = d - sa;
+    /* Exactly 0 for a body that does not give way (d - d wa / wa can be an ulp, which
+     * would count it as moved: a static body then went through the tile resolution). */
+    nt_real sa = wb <= 0 ? d : wa <= 0 ? 0 : d * wa / (wa + wb);
+    nt_real sb = wa <= 0 ? d : wb <= 0 ? 0 : d - sa;
     int which = 0;
     for (int s = 0; s < 2; s++) {
         int32_t i = s ? ib : ia;
@@ -802,7 +804,7 @@ static void correct_positions(nt_world *w)
                 if (!fresh_a && !fresh_b) continue;
             }
             if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-            if (!push_pair(w, ia, ib, &ms, 0)) continue;
+            if (!push_pair(w, ia, ib, &ms)) continue;
             pushed = 1;
             push_it[ia] = push_it[ib] = it;
             push_k[ia] = push_k[ib] = k;
@@ -866,9 +868,9 @@ static void correct_after_move(nt_world *w)
             int32_t j = found[f];
             const nt__body *o = &w->bodies[j];
             if (!plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
-            int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, 0);
+            int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms);
             int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
-            if (pj >= 0 && inq[pj] == 0) {
+            if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) {
                 inq[pj] = 1;
                 queue[tail] = pj;
                 tail = (tail + 1) % cap;
@@ -887,10 +889,10 @@ static void correct_after_move(nt_world *w)
         for (int32_t e = start[i]; e < end[i]; e++) {
             const nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
-            int which = push_pair(w, ia, ib, &ms, 0);
+            int which = push_pair(w, ia, ib, &ms);
             for (int s = 0; s < 2; s++) {
                 int32_t j = s ? ib : ia;
-                if (!(which & (1 << s)) || inq[j] != 0 || visits[j] >= iters) continue;
+                if (!(which & (1 << s)) || w->bodies[j].awake_slot < 0 || inq[j] != 0 || visits[j] >= iters) continue;
                 inq[j] = 1;
                 queue[tail] = j;
                 tail = (tail + 1) % cap;
@@ -984,9 +986,8 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
  * approach speed into the step: up to then each moves with its old velocity, i.e. by
  * (v_before - v_after) t more than v_after dt. Without it a falling body that meets a
  * box stops dead up to v dt above it, and a body pushed by a rolling one keeps that
- * gap. Only for collisions without a bounce: one with a bounce still turns back at
- * the gap (its time of impact belongs with the bounce work of issue 20, and leaves
- * the bouncing scenes' figures alone). Not for a body resting on another (a touching
+ * gap. Only for collisions without a bounce: one with a bounce turns back at the gap
+ * (it leaves at the speed it should, a gap's distance early). Not for a body resting on another (a touching
  * contact): its velocity change holds the weight too, which is no impact. (Tile
  * contacts are answered before the solve, tile_solve.) Per body in the contacts:
  * scratch_r[2i] the earliest such t (NT_REAL_MAX: none), scratch_r[2i + 1] 1 when
@@ -1050,21 +1051,12 @@ static void shock_pass(nt_world *w)
             shock_pair(sv, c, key_a(c->key) == j);
         }
     }
-    /* Then the bodies with no level against those with one (a body falling onto a
-     * pile: its speculative contact). */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        if (c->meff <= 0) continue;
-        int32_t la = lv[key_a(c->key)], lb = lv[key_b(c->key)];
-        if ((la == NT__NO_LEVEL) == (lb == NT__NO_LEVEL)) continue;
-        shock_pair(sv, c, la < lb);
-    }
 }
 
 /* Whether the solve's answer v1 (the velocity was v0) sends a body farther along an
  * axis than its pairs were found for (the pair search reaches each body's own travel
  * plus the base margin): a body kicked by others may then meet one that is no contact
- * of this step (correct_positions after the move looks for those). */
+ * of this step (correct_after_move looks for those). */
 static inline int kicked_out(const nt_world *w, nt_vec2 v0, nt_vec2 v1, nt_real dt)
 {
     nt_real m = w->pair_margin * R(0.5);
@@ -1088,7 +1080,6 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
     /* Body contacts. Restitution targets and hit speeds come from the velocities
      * before any contact impulse (warm start included) is applied. */
     int any = 0;
-    nt_real glen = nt__sqrt(w->def.gravity.x * w->def.gravity.x + w->def.gravity.y * w->def.gravity.y);
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         c->meff = 0;
@@ -1115,14 +1106,14 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
          * again: energy from nothing in a gas of bouncing bodies). */
         c->flags &= ~(uint32_t)NT__CF_BOUNCED;
         /* A touching pair that held last step (its impulse carried over) is resting: of
-         * what it closes at, up to what gravity adds in this step is its weight, not an
-         * impact, however long the step (else a box resting on another hops once g dt
-         * passes the restitution threshold). */
+         * what it closes at, up to what gravity adds along its normal in this step is
+         * its weight, not an impact, however long the step (else a box resting on
+         * another hops once g dt passes the restitution threshold). */
         nt_real vimp = vn0;
         if (touch && c->ln > 0) {
             nt_real gs = nt__max(a->type == NT_BODY_DYNAMIC ? nt__fabs(a->gravity_scale) : 0,
                                  b->type == NT_BODY_DYNAMIC ? nt__fabs(b->gravity_scale) : 0);
-            vimp = nt__min(vn0 + gs * glen * dt, 0);
+            vimp = nt__min(vn0 + gs * nt__fabs(nt__dot(w->def.gravity, c->n)) * dt, 0);
         }
         if (hits && vimp < -w->def.restitution_threshold) {
             c->bias = nt__max(c->bias, -c->bounce * vimp);
@@ -1189,7 +1180,8 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
                 }
             }
         }
-        /* Tiles have the last word: no velocity into a surface after the solve. */
+        /* The tiles, once more after the iterations, then the pass up the stack (which
+         * may leave a little velocity into a surface: the move answers it). */
         for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
         if (w->leveled) shock_pass(w);
         /* Pairs the iterations left closing by more than half the base margin over the
@@ -1200,8 +1192,10 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             const nt__contact *c = &w->con[k];
             if (c->meff <= 0) continue;
             if (!(nt__dot(nt__sub(sv[c->sb].v, sv[c->sa].v), c->n) < c->bias - slack)) continue;
-            w->bodies[key_a(c->key)].motion |= NT__MF_RECHECK;
-            w->bodies[key_b(c->key)].motion |= NT__MF_RECHECK;
+            /* (Only bodies that move: the correction after the move clears the marks of
+             * the awake bodies.) */
+            if (sv[c->sa].w > 0) w->bodies[key_a(c->key)].motion |= NT__MF_RECHECK;
+            if (sv[c->sb].w > 0) w->bodies[key_b(c->key)].motion |= NT__MF_RECHECK;
             w->kicked_count++;
         }
     }
@@ -1584,7 +1578,11 @@ nt_status nt__step(nt_world *w, nt_real dt)
     w->pairs_ms = 0;
     w->kicked_count = 0;
     nt_status s = collide(w, dt);
-    if (s != NT_OK) return s;
+    if (s != NT_OK) {
+        /* The pair search may have marked fast bodies: a failed step leaves no trace. */
+        for (int k = 0; k < w->awake_count; k++) w->bodies[w->awake[k]].motion &= (uint8_t)~NT__MF_KICKED;
+        return s;
+    }
     if (w->profiling) t[2] = clock_ms();
     nt_real ratio = w->prev_dt > 0 ? dt / w->prev_dt : 1;
     w->leveled = 0;
