@@ -213,7 +213,7 @@ static void test_overlap_percentile(void **state)
 
 /* Rain of 2,000, 4,000 and 8,000 bodies through the engine with the benchmark's
  * metrics: no pair ever ends a step a quarter of a cell deep, and the worst overlap
- * stays under 0.2 cell (measured 0.11, 0.12 and 0.17; before the pass up the stack
+ * stays under 0.2 cell (measured 0.12, 0.12 and 0.17; before the pass up the stack
  * and the correction after the move, the 10,000-body rain's worst was 0.45 cell, with
  * 34 deep pair-steps). */
 static void test_rain_overlap(void **state)
