@@ -18,6 +18,7 @@
 #   make sheet           regenerate tools/ntile/sheet.svg (the answer key shown in the README)
 #   make bench           the world scenes: ns per body-step and error metrics, scaling,
 #                        character moves against a particles body-step
+#   make bench-instructions  instructions per body-step inside nt_world_step (callgrind)
 #   make bench-sweep     run time against error: dt, substeps, iterations, friction model,
 #                        float and double (CSV + SVG in build/sweep/)
 #   make bench-peers     the same scenes in Chipmunk2D 7 and Box2D 2.4 (Debian's
@@ -105,7 +106,7 @@ endif
 
 .PHONY: all lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
         deps-test deps-cxx deps-pkgconfig deps-tiled install uninstall check-install check-headers sheet \
-        bench bench-sweep bench-peers deps-peers
+        bench bench-instructions bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -272,6 +273,11 @@ bench: $(BUILD)/ntile
 	$(BUILD)/ntile bench world $(BENCH_SCENES) --runs $(RUNS)
 	$(BUILD)/ntile bench scaling --runs $(RUNS)
 	$(BUILD)/ntile bench character --runs $(RUNS)
+
+# Instructions per body-step inside nt_world_step (callgrind), against the step's
+# targets: tools/bench-instructions.sh (prints a note and measures nothing without valgrind).
+bench-instructions: $(BUILD)/ntile
+	@sh tools/bench-instructions.sh $(BUILD)/ntile
 
 # The sweep needs both scalar types: each binary measures its own points, then the
 # float one merges the CSVs, finds the Pareto front and draws the SVG.

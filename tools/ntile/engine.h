@@ -47,6 +47,10 @@ void *bench_warmed(const engine *e, const engine_setting *set, const scene *s, i
  * *out receives the phase times summed over its s->steps steps, in milliseconds.
  * Returns 0 on failure. */
 int ntile_scene_profile(const scene *s, nt_world_profile *out);
+/* Body-steps taken inside nt_world_step by this engine so far (every call adds the
+ * world's body count): with callgrind's count of instructions inside nt_world_step,
+ * instructions per body-step exactly. */
+extern long long ntile_body_steps;
 
 /* One scene run on one engine: the timing of `runs` runs; the first also reads every
  * body after every step for the error metrics (outside the timed calls). */

@@ -84,11 +84,15 @@ static void *ntile_create(const scene *s, const engine_setting *set)
     return r;
 }
 
+long long ntile_body_steps;
+
 static int ntile_step(void *p)
 {
     ntile_run *r = p;
-    for (int k = 0; k < r->substeps; k++)
+    for (int k = 0; k < r->substeps; k++) {
+        ntile_body_steps += nt_world_get_body_count(r->world);
         if (!ok(nt_world_step(r->world, r->dt), "nt_world_step")) return 0;
+    }
     return 1;
 }
 
@@ -113,6 +117,7 @@ int ntile_scene_profile(const scene *s, nt_world_profile *out)
     nt_world_enable_profile(r->world, true);
     for (int k = 0; stepped && k < s->steps; k++)
         for (int q = 0; stepped && q < r->substeps; q++) {
+            ntile_body_steps += nt_world_get_body_count(r->world);
             stepped = ok(nt_world_step(r->world, r->dt), "nt_world_step");
             nt_world_profile p = nt_world_get_profile(r->world);
             out->pairs += p.pairs;
