@@ -2,7 +2,16 @@
 #
 #   make                 libraries (engine static + shared, game layer static) and the
 #                        ntile CLI, in build/
+#   make lib / make cli  the libraries alone / the ntile CLI alone
+#   make help            this list
 #   make test            build and run every test
+#   make valgrind        the whole test suite under valgrind's memcheck
+#   make determinism     golden hashes: gcc and clang, -O0/-O2/-O3, float and double
+#                        (and gcc -m32 when gcc-multilib is installable)
+#   make fuzz [FUZZ_SECONDS=60]  every libFuzzer harness in tests/fuzz, in turn
+#   make soak            the long soak: rain checked after every step
+#   make screenshot      a frame of the playground, for the README
+#   make clean           remove build/
 #   make asan            the whole test suite under AddressSanitizer + UBSan
 #   make play            the SDL2 playground on the default level (installs libsdl2-dev
 #                        when missing and root; `make` builds build/ntile-play whenever
@@ -104,7 +113,7 @@ SDL_LIBS := $(shell $(SDL_CONFIG) --libs)
 PLAY_TARGET := $(PLAY_BIN)
 endif
 
-.PHONY: all lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
+.PHONY: all help lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
         deps-test deps-cxx deps-pkgconfig deps-tiled install uninstall check-install check-headers sheet \
         bench bench-instructions bench-sweep bench-peers deps-peers
 .DEFAULT_GOAL := all
@@ -273,6 +282,10 @@ bench: $(BUILD)/ntile
 	$(BUILD)/ntile bench world $(BENCH_SCENES) --runs $(RUNS)
 	$(BUILD)/ntile bench scaling --runs $(RUNS)
 	$(BUILD)/ntile bench character --runs $(RUNS)
+
+# The targets, from the comment at the top of this file.
+help:
+	@sed -n '/^#   make/,/^#$$/p' Makefile | sed 's/^#//'
 
 # Instructions per body-step inside nt_world_step (callgrind), against the step's
 # targets: tools/bench-instructions.sh (prints a note and measures nothing without valgrind).
