@@ -159,8 +159,8 @@ typedef struct nt_world_def {
     nt_real sleep_speed;              ///< a body slower than this (units/s) counts as resting
     nt_real sleep_time;               ///< a group of touching bodies resting this long (s) falls asleep
     nt_real max_cells_per_step;       ///< speed limit in cells per step, in [1, 16]
-    int velocity_iterations;          ///< body-contact velocity iterations, 1..64
-    int position_iterations;          ///< body-overlap position iterations, 0..64
+    int velocity_iterations;          ///< body-contact velocity iterations, 1..64 (then one pass up the stack)
+    int position_iterations;          ///< body-overlap position iterations, 0..64 (also each body's turns in the correction after the move)
     nt_real floor_angle;              ///< radians in [0, pi/2]: steepest tile surface nt_body_get_tile_contacts calls a floor (default 50 degrees)
     int body_capacity;                ///< bodies to reserve room for (grows as needed)
     void *user_data;
