@@ -672,13 +672,13 @@ static void build_contact_lists(nt_world *w)
         const nt__contact *c = &w->con[k];
         if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
         int32_t ia = key_a(c->key), ib = key_b(c->key);
-        int held = leveled && solver_w(&w->bodies[ia]) > 0 && solver_w(&w->bodies[ib]) > 0;
-        int32_t e = held ? k : -1 - k;
+        int both_move = leveled && solver_w(&w->bodies[ia]) > 0 && solver_w(&w->bodies[ib]) > 0;
+        int32_t e = both_move ? k : -1 - k;
         adj[end[ia]++] = e;
         adj[end[ib]++] = e;
     }
     if (nq == 0) return;
-    /* Breadth first from the roots, over touching pairs of moving bodies. */
+    /* Breadth first from the roots, over the contacts between moving bodies. */
     for (int h = 0; h < nq; h++) {
         int32_t i = order[h], l = lv[i] + 1;
         for (int32_t e = start[i]; e < end[i]; e++) {
