@@ -724,47 +724,40 @@ static nt_status find_pairs(nt_world *w, nt_real dt)
     return NT_OK;
 }
 
+/* The bodies of one list whose boxes overlap body b's (slot i left out), into out. */
+static inline int take_overlapping(const nt_world *w, int32_t head_body, int32_t i, const nt__body *b, int32_t *out,
+                                   int n, int cap)
+{
+    for (int32_t j = head_body; j >= 0; j = w->bodies[j].gnext) {
+        const nt__body *o = &w->bodies[j];
+        if (j == i || nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x || nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
+            continue;
+        if (n < cap) out[n++] = j;
+    }
+    return n;
+}
+
 int nt__grid_overlapping(const nt_world *w, int32_t i, int32_t *out, int cap)
 {
     const nt__body *b = &w->bodies[i];
     int n = 0;
     if (!w->heads) return 0;
-    /* Level 0 by its cells and bitmap; the coarser levels, when in use, by the visit. */
-    nt_real m = R(0.5) * w->cell;
-    int r[4];
-    level_view v = view_of(w, 0);
-    view_range(&v, nt_v2(b->p.x - b->half.x - m, b->p.y - b->half.y - m), nt_v2(b->p.x + b->half.x + m, b->p.y + b->half.y + m), r);
-    for (int y = r[1]; y <= r[3]; y++)
-        for (int x = r[0]; x <= r[2]; x++)
-            for (int list = 0; list < 2; list++) {
-                int32_t head = 2 * (y * v.w + x) + list;
-                if (!occupied(w, head)) continue;
-                for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext) {
-                    const nt__body *o = &w->bodies[j];
-                    if (j == i || nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x ||
-                        nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
-                        continue;
-                    if (n < cap) out[n++] = j;
+    /* Level 0 by its cells and bitmap of non-empty lists; the coarser levels when in use.
+     * A body reaches half its level's cell beyond its cell. */
+    for (int lv = 0; lv < NT__LEVELS; lv++) {
+        if (lv > 0 && (!w->large_count || !w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1]))) continue;
+        level_view v = view_of(w, lv);
+        nt_real m = v.size * R(0.5);
+        int r[4];
+        view_range(&v, nt_v2(b->p.x - b->half.x - m, b->p.y - b->half.y - m),
+                   nt_v2(b->p.x + b->half.x + m, b->p.y + b->half.y + m), r);
+        for (int y = r[1]; y <= r[3]; y++)
+            for (int x = r[0]; x <= r[2]; x++)
+                for (int list = 0; list < 2; list++) {
+                    int32_t head = 2 * (y * v.w + x) + list;
+                    if (lv == 0 && !occupied(w, head)) continue;
+                    n = take_overlapping(w, v.heads[head], i, b, out, n, cap);
                 }
-            }
-    if (w->large_count) {
-        for (int lv = 1; lv < NT__LEVELS; lv++) {
-            if (!w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1])) continue;
-            level_view lvv = view_of(w, lv);
-            nt_real ml = lvv.size * R(0.5);
-            view_range(&lvv, nt_v2(b->p.x - b->half.x - ml, b->p.y - b->half.y - ml),
-                       nt_v2(b->p.x + b->half.x + ml, b->p.y + b->half.y + ml), r);
-            for (int y = r[1]; y <= r[3]; y++)
-                for (int x = r[0]; x <= r[2]; x++)
-                    for (int list = 0; list < 2; list++)
-                        for (int32_t j = lvv.heads[2 * (y * lvv.w + x) + list]; j >= 0; j = w->bodies[j].gnext) {
-                            const nt__body *o = &w->bodies[j];
-                            if (j == i || nt__fabs(o->p.x - b->p.x) >= o->half.x + b->half.x ||
-                                nt__fabs(o->p.y - b->p.y) >= o->half.y + b->half.y)
-                                continue;
-                            if (n < cap) out[n++] = j;
-                        }
-        }
     }
     return n;
 }

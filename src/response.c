@@ -828,17 +828,38 @@ static inline int plain_pair_body(const nt_world *w, int32_t i)
     return !(b->flags & NT__BF_SENSOR) && !b->one_way && !(w->char_count && w->cold[i].character >= 0);
 }
 
+/* The correction's queue: a ring of body_cap slots (a body is in it at most once). */
+typedef struct body_queue {
+    int32_t *slot, *inq; /* inq[i]: 1 queued, 0 in a contact and not queued, -1 in none */
+    int cap, head, tail, count;
+} body_queue;
+
+static inline void enqueue(body_queue *q, int32_t i)
+{
+    q->inq[i] = 1;
+    q->slot[q->tail] = i;
+    q->tail = (q->tail + 1) % q->cap;
+    q->count++;
+}
+
+/* The marks the correction after the move reads, off every awake body. */
+static void clear_move_marks(nt_world *w)
+{
+    for (int q = 0; q < w->awake_count; q++)
+        w->bodies[w->awake[q]].motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
+}
+
 static void correct_after_move(nt_world *w)
 {
     int iters = w->def.position_iterations;
     if (iters == 0) {
-        for (int q = 0; q < w->awake_count; q++)
-            w->bodies[w->awake[q]].motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
+        clear_move_marks(w);
         return;
     }
     moved_set ms = {w->wake_list, w->scratch_r, 0};
-    int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap, *queue = w->level; /* levels: used */
+    int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap;
     int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
+    body_queue bq = {w->level /* the levels are used */, inq, w->body_cap, 0, 0, 0};
     /* A body is in the contacts' lists when it is in a contact; mark those first. */
     for (int q = 0; q < w->awake_count; q++) {
         int32_t i = w->awake[q];
@@ -846,7 +867,6 @@ static void correct_after_move(nt_world *w)
         inq[i] = -1; /* not in a contact */
     }
     for (int k = 0; k < w->con_count; k++) inq[key_a(w->con[k].key)] = inq[key_b(w->con[k].key)] = 0;
-    int cap = w->body_cap, head = 0, tail = 0, count = 0;
     /* The flagged bodies: pairs beyond the contacts from the broad phase first. */
     for (int q = 0; q < w->awake_count; q++) {
         int32_t i = w->awake[q];
@@ -854,12 +874,7 @@ static void correct_after_move(nt_world *w)
         if (!(b->motion & (NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK))) continue;
         int kicked = (b->motion & NT__MF_KICKED) != 0;
         b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
-        if (inq[i] == 0) {
-            inq[i] = 1;
-            queue[tail] = i;
-            tail = (tail + 1) % cap;
-            count++;
-        }
+        if (inq[i] == 0) enqueue(&bq, i);
         /* One that met a tile has its pairs among the contacts; the others may not. */
         if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
         int32_t found[32];
@@ -870,20 +885,15 @@ static void correct_after_move(nt_world *w)
             if (!plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
             int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms);
             int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
-            if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) {
-                inq[pj] = 1;
-                queue[tail] = pj;
-                tail = (tail + 1) % cap;
-                count++;
-            }
+            if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
         }
     }
     /* Then the contacts of the queued bodies, until none is pushed or each has had
      * its turns. */
-    while (count > 0) {
-        int32_t i = queue[head];
-        head = (head + 1) % cap;
-        count--;
+    while (bq.count > 0) {
+        int32_t i = bq.slot[bq.head];
+        bq.head = (bq.head + 1) % bq.cap;
+        bq.count--;
         inq[i] = 0;
         if (visits[i]++ >= iters) continue;
         for (int32_t e = start[i]; e < end[i]; e++) {
@@ -893,10 +903,7 @@ static void correct_after_move(nt_world *w)
             for (int s = 0; s < 2; s++) {
                 int32_t j = s ? ib : ia;
                 if (!(which & (1 << s)) || w->bodies[j].awake_slot < 0 || inq[j] != 0 || visits[j] >= iters) continue;
-                inq[j] = 1;
-                queue[tail] = j;
-                tail = (tail + 1) % cap;
-                count++;
+                enqueue(&bq, j);
             }
         }
     }
@@ -1579,8 +1586,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
     w->kicked_count = 0;
     nt_status s = collide(w, dt);
     if (s != NT_OK) {
-        /* The pair search may have marked fast bodies: a failed step leaves no trace. */
-        for (int k = 0; k < w->awake_count; k++) w->bodies[w->awake[k]].motion &= (uint8_t)~NT__MF_KICKED;
+        clear_move_marks(w); /* the pair search may have marked fast bodies: a failed step leaves no trace */
         return s;
     }
     if (w->profiling) t[2] = clock_ms();

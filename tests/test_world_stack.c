@@ -89,6 +89,18 @@ static double max_tile_overlap(const nt_world *w, const nt_body_id *ids, int n)
     return worst;
 }
 
+
+/* Step `steps` times (dt DT); the deepest pair overlap of the bodies after the steps
+ * from `from` on. */
+static double step_worst_overlap(nt_world *w, const nt_body_id *ids, int n, int steps, int from)
+{
+    double worst = 0;
+    for (int s = 0; s < steps; s++) {
+        assert_int_equal(nt_world_step(w, DT), NT_OK);
+        if (s >= from) worst = fmax(worst, max_pair_overlap(w, ids, n));
+    }
+    return worst;
+}
 /* Settled: for 10,000 more steps nobody moves more than `drift` from where it was,
  * nobody overlaps a tile by more than 1e-3 cell, no pair overlaps by more than
  * `pair_tol`. Checked every 100 steps. */
@@ -206,11 +218,7 @@ static void test_falling_column(void **state)
         ids[i] = add(w, nt_shape_aabb(R(h), R(h)), 4, y, 1, R(0.5));
         nt_body_set_velocity(w, ids[i], nt_v2(0, R(v)));
     }
-    double uncaught = v * dt + g * dt * dt - gap, worst = 0;
-    for (int s = 0; s < 60; s++) {
-        assert_int_equal(nt_world_step(w, DT), NT_OK);
-        worst = fmax(worst, max_pair_overlap(w, ids, K + 1));
-    }
+    double uncaught = v * dt + g * dt * dt - gap, worst = step_worst_overlap(w, ids, K + 1, 60, 0);
     printf("  falling column: worst pair overlap %.3g cell (uncaught %.3g)\n", worst, uncaught);
     assert_true(worst < uncaught / 20);
     nt_world_destroy(w);
@@ -252,11 +260,7 @@ static void test_tall_column_default_iterations(void **state)
             nt_body_id sid;
             assert_int_equal(nt_body_create(w, &sd, &sid), NT_OK);
         }
-        double worst = 0, sunk = 0;
-        for (int s = 0; s < 240; s++) {
-            assert_int_equal(nt_world_step(w, DT), NT_OK);
-            if (s >= 120) worst = fmax(worst, max_pair_overlap(w, ids, K));
-        }
+        double worst = step_worst_overlap(w, ids, K, 240, 120), sunk = 0;
         /* The top of the column against where it stands without overlaps. */
         nt_vec2 top = nt_body_get_position(w, ids[K - 1]);
         sunk = (double)top.y - (H - 1 - 0.45 - 0.9 * (K - 1));
@@ -291,11 +295,7 @@ static void test_overlaps_after_the_move(void **state)
         ids[0] = add(w, sh, 3.5, H - 1 - 0.4, 1, R(0.5));
         ids[1] = add(w, sh, 3.5, H - 1 - 0.4 - 1.65, 1, R(0.5)); /* cells 18 and 16: gap 0.85 */
         nt_body_set_velocity(w, ids[1], nt_v2(0, R(0.95 * 60)));
-        double worst = 0;
-        for (int s = 0; s < 30; s++) {
-            assert_int_equal(nt_world_step(w, DT), NT_OK);
-            worst = fmax(worst, max_pair_overlap(w, ids, 2));
-        }
+        double worst = step_worst_overlap(w, ids, 2, 30, 0);
         printf("  fast onto a body two cells away (%s): worst pair overlap %.3g cell\n", shape ? "circles" : "boxes", worst);
         assert_true(worst < tol);
         nt_world_destroy(w);
@@ -320,11 +320,7 @@ static void test_overlaps_after_the_move(void **state)
             ids[i] = add(w, sh, 3.5, y0 - 0.8 * i, 1, R(0.5));
             nt_body_set_velocity(w, ids[i], nt_v2(0, R(30))); /* 0.5 cell a step, together */
         }
-        double worst = 0;
-        for (int s = 0; s < 60; s++) {
-            assert_int_equal(nt_world_step(w, DT), NT_OK);
-            worst = fmax(worst, max_pair_overlap(w, ids, 2));
-        }
+        double worst = step_worst_overlap(w, ids, 2, 60, 0);
         printf("  falling pair onto a bouncy floor (%s): worst pair overlap %.3g cell\n", shape ? "circles" : "boxes", worst);
         assert_true(worst < tol);
         nt_world_destroy(w);
