@@ -25,6 +25,7 @@
 #                        example through pkg-config, uninstall
 #   make check-headers   each public header alone as C11 (-Werror) and as C++11
 #   make sheet           regenerate tools/ntile/sheet.svg (the answer key shown in the README)
+#   make tiles           regenerate src/tile_tables.c (the tile tables) with tools/tilegen
 #   make bench           the world scenes: ns per body-step and error metrics, scaling,
 #                        character moves against a particles body-step
 #   make bench-instructions  instructions per body-step inside nt_world_step (callgrind)
@@ -56,7 +57,7 @@ endif
 # -fno-math-errno: sqrt is one instruction, without a check for negative inputs
 # (ntile never reads errno; the results are the same bits).
 # 32-bit x86: x87 arithmetic keeps excess precision (results differ from every other
-# target, replays diverge): SSE2 arithmetic instead. src/core.h refuses to compile with
+# target, replays diverge): SSE2 arithmetic instead. src/internal.h refuses to compile with
 # excess precision (__FLT_EVAL_METHOD__ != 0).
 X86_32 := $(shell printf '' | $(CC) $(CFLAGS) -dM -E -x c - 2>/dev/null | grep -c '__i386__ 1')
 ifeq ($(X86_32),1)
@@ -115,7 +116,7 @@ endif
 
 .PHONY: all help lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
         deps-test deps-cxx deps-pkgconfig deps-tiled install uninstall check-install check-headers sheet \
-        bench bench-instructions bench-sweep bench-peers deps-peers
+        bench bench-instructions bench-sweep bench-peers deps-peers tiles
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -168,6 +169,15 @@ $(OBJ)/tools/ntile-play/%.o: tools/ntile-play/%.c | deps-cc
 $(PLAY_BIN): $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a
 	$(CC) $(LDFLAGS_ALL) -o $@ $(PLAY_OBJ) $(GAME_LIB) $(BUILD)/libntile.a $(SDL_LIBS) $(LIBS)
 
+# tilegen: the tile tables (src/tile_tables.c) from the canonical shapes; `make tiles`
+# rewrites the file, tests/test_tilegen.c checks that it is the generator's output.
+TILEGEN_OBJ := $(OBJ)/tools/tilegen/tilegen.o
+$(BUILD)/tilegen: $(TILEGEN_OBJ) $(OBJ)/tools/tilegen/main.o
+	$(CC) $(LDFLAGS_ALL) -o $@ $^ $(LIBS)
+
+tiles: $(BUILD)/tilegen
+	$(BUILD)/tilegen src/tile_tables.c.new && mv src/tile_tables.c.new src/tile_tables.c
+
 # replay-check: replays and their hashes with only the libraries and libc (make
 # determinism's 32-bit x86 build, where Tiled's and cmocka's libraries are missing).
 $(BUILD)/replay-check: $(OBJ)/tools/replay-check/main.o $(GAME_LIB) $(BUILD)/libntile.a
@@ -175,9 +185,9 @@ $(BUILD)/replay-check: $(OBJ)/tools/replay-check/main.o $(GAME_LIB) $(BUILD)/lib
 
 # Tests: one cmocka binary per tests/test_*.c, linked with the shared test helpers
 # (test_bench also with the benchmark's metric, scene, outline, plot and character-scene code;
-# test_tiled with the Tiled importer).
+# test_tilegen with the tile tables' generator; test_tiled with the Tiled importer).
 TEST_EXTRA_OBJ = $(if $(filter test_bench,$*),$(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o plot.o bench_common.o geometry.o \
-                 bench_character.o engine_ntile.o bench_run.o))
+                 bench_character.o engine_ntile.o bench_run.o)) $(if $(filter test_tilegen,$*),$(TILEGEN_OBJ))
 .SECONDEXPANSION:
 $(BUILD)/tests/%: $(OBJ)/tests/%.o $(TEST_LIB_OBJ) $$(TEST_EXTRA_OBJ) $(GAME_LIB) $(BUILD)/libntile.a | deps-test
 	@mkdir -p $(dir $@)

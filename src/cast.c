@@ -10,7 +10,7 @@
  * the exact overlap test at the middle of each piece says which. The first inside
  * piece starts at the entry time.
  */
-#include "core.h"
+#include "world_internal.h"
 
 /* A crossing of the segment with a boundary curve, and the curve's normal there:
  * a line's unit normal, or a circle's radius vector (made unit when asked for),
@@ -92,7 +92,7 @@ static inline void line_x(xings *X, const seg *s, nt_real nx, nt_real ny, nt_rea
 
 /* The circle |p - q| = rad; A = d . d. */
 /* How far from the start a crossing with t in [-1, 1] can lie: |d|, here 1.25 |d|. */
-static inline nt_real circle_reach(nt_real A) { return R(1.25) * nt__sqrt(A); }
+static inline nt_real circle_reach(nt_real A) { return (nt_real)1.25 * nt__sqrt(A); }
 
 /* The circle |p - q| = rad; A = d . d, reach = circle_reach(A). When the start is
  * farther than reach from the circle, by more than the rounding of the roots, every
@@ -104,7 +104,7 @@ static void circle_x_a(xings *X, const seg *s, nt_real A, nt_real reach, nt_real
 {
     if (!(rad > 0)) return;
     nt_real mx = s->a.x - qx, my = s->a.y - qy;
-    nt_real m2 = mx * mx + my * my, w = reach + R(4e-3) * (1 + rad);
+    nt_real m2 = mx * mx + my * my, w = reach + (nt_real)4e-3 * (1 + rad);
     if (m2 > (rad + w) * (rad + w) || (rad > w && m2 < (rad - w) * (rad - w))) return;
     nt_real B = mx * s->d.x + my * s->d.y;
     nt_real C = mx * mx + my * my - rad * rad;
@@ -186,7 +186,7 @@ static int pieces_entry(const xings *X, const seg *s, const region *g, int one_w
         nt_vec2 mn = nt_v2(0, 0);
         nt_real depth = 0;
         if (b > prev) {
-            nt_real mid = R(0.5) * (prev + b);
+            nt_real mid = (nt_real)0.5 * (prev + b);
             depth = region_depth(g, nt_v2(s->a.x + s->d.x * mid, s->a.y + s->d.y * mid), &mn);
         }
         if (depth > 0) {
@@ -240,7 +240,7 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
     }
     nt_real lo = nt__max(tin, 0), hi = nt__min(tout, 1);
     if (!(lo < hi) || !(lo < s->tmax)) return 0;
-    nt_real mid = R(0.5) * (lo + hi), depth = NT_REAL_MAX;
+    nt_real mid = (nt_real)0.5 * (lo + hi), depth = NT_REAL_MAX;
     for (int i = 0; i < nl; i++)
         depth = nt__min(depth, L[i][2] - (L[i][0] * (s->a.x + s->d.x * mid) + L[i][1] * (s->a.y + s->d.y * mid)));
     if (!(depth > s->tiny + lo * s->tiny_per_t)) return 0;
@@ -258,12 +258,12 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
  * A box whose centre's segment stays HULL_MARGIN outside box (+) that hull (far more
  * than the rounding of the segment or of the narrow phase) overlaps the tile nowhere
  * along it, so no piece of it is inside: no entry, without the curves. */
-#define HULL_MARGIN R(1e-4)
+#define HULL_MARGIN (nt_real)1e-4
 
 static int round_hull_missed(const nt_tile_info *ti, const seg *s, nt_vec2 h)
 {
     nt_vec2 n = ti->normal, o = ti->arc_center;
-    nt_real k = ti->cls == NT_CLASS_CONVEX ? R(1) : R(-0.70710678118654752);
+    nt_real k = ti->cls == NT_CLASS_CONVEX ? (nt_real)1 : (nt_real)-0.70710678118654752;
     const nt_real L[5][3] = {{-1, 0, h.x - ti->bounds_min.x},
                              {1, 0, ti->bounds_max.x + h.x},
                              {0, -1, h.y - ti->bounds_min.y},
@@ -330,7 +330,7 @@ static int poly_entry(const nt_tile_info *ti, const nt__tile_geom *g, const seg 
     }
     nt_real lo = nt__max(tin, 0), hi = nt__min(tout, 1);
     if (!(lo < hi) || !(lo < s->tmax)) return 0;
-    nt_real mid = R(0.5) * (lo + hi);
+    nt_real mid = (nt_real)0.5 * (lo + hi);
     nt_real px = ax + dx * mid, py = ay + dy * mid;
     nt_real depth = nt__min(NT_REAL_MAX, e[0] + px);
     depth = nt__min(depth, e[1] - px);
@@ -430,8 +430,8 @@ static int tile_entry(int tile, const seg *s, const nt_shape *obj_p, int one_way
             }
             if (round) circle_x_a(&X, s, A, reach, o.x - sx, o.y - sy, 1);
         }
-        nt_real denx = R(1) * s->d.x + R(0) * s->d.y, nax = R(1) * s->a.x + R(0) * s->a.y;
-        nt_real deny = R(0) * s->d.x + R(1) * s->d.y, nay = R(0) * s->a.x + R(1) * s->a.y;
+        nt_real denx = (nt_real)1 * s->d.x + (nt_real)0 * s->d.y, nax = (nt_real)1 * s->a.x + (nt_real)0 * s->a.y;
+        nt_real deny = (nt_real)0 * s->d.x + (nt_real)1 * s->d.y, nay = (nt_real)0 * s->a.x + (nt_real)1 * s->a.y;
         for (int i = 0; i < nv; i++) {
             nt_vec2 v = ti->vertices[i];
             int dupx = 0, dupy = 0;
@@ -768,7 +768,7 @@ static void sweep_tiles(caster *c)
                     if ((h.x - ti->bounds_min.x) + ax <= 0 || (ti->bounds_max.x + h.x) - ax <= 0) continue;
                 }
             }
-            sweep_cell(c, x, y, tile, nt__min(c->best.t, R(1)));
+            sweep_cell(c, x, y, tile, nt__min(c->best.t, (nt_real)1));
             /* An entry is never before 0 and replaces the best only when earlier: a
              * hit at 0 (a floor met at once) is the answer. */
             if (c->best.t <= 0) return;
@@ -820,7 +820,7 @@ static bool body_visit(const nt_world *w, int32_t i, void *vctx)
     seg s;
     s.a = c->p0;
     s.d = c->d;
-    s.tmax = nt__min(c->best.t, R(1));
+    s.tmax = nt__min(c->best.t, (nt_real)1);
     s.tiny = c->tiny0;
     s.tiny_per_t = c->tiny_per_t;
     nt_real t;
@@ -865,10 +865,10 @@ static nt_vec2 contact_point(const caster *c, nt_vec2 q)
     nt_vec2 p;
     if (n.x == 0) {
         nt_real lo = nt__max(q.x - h.x, b->lo.x), hi = nt__min(q.x + h.x, b->hi.x);
-        p = nt_v2(lo <= hi ? R(0.5) * (lo + hi) : q.x, n.y < 0 ? q.y + h.y : q.y - h.y);
+        p = nt_v2(lo <= hi ? (nt_real)0.5 * (lo + hi) : q.x, n.y < 0 ? q.y + h.y : q.y - h.y);
     } else if (n.y == 0) {
         nt_real lo = nt__max(q.y - h.y, b->lo.y), hi = nt__min(q.y + h.y, b->hi.y);
-        p = nt_v2(n.x < 0 ? q.x + h.x : q.x - h.x, lo <= hi ? R(0.5) * (lo + hi) : q.y);
+        p = nt_v2(n.x < 0 ? q.x + h.x : q.x - h.x, lo <= hi ? (nt_real)0.5 * (lo + hi) : q.y);
     } else {
         p = nt_v2(n.x < 0 ? q.x + h.x : q.x - h.x, n.y < 0 ? q.y + h.y : q.y - h.y);
     }
@@ -911,9 +911,9 @@ static int run_cast(caster *c)
      * 7.8e-3 cell there (the resting limit tol twice that): casts missed shallow hits
      * at the end of their way and a character stopped on slopes (tests/test_far.c). */
     nt_real mag0 = nt__max(nt__fabs(c->p0.x), nt__fabs(c->p0.y));
-    c->tiny0 = nt__max(R(16) * NT_REAL_EPS * nt__clamp(mag0, R(1), R(256)), R(4) * NT_REAL_EPS * mag0);
-    c->tiny_per_t = R(16) * NT_REAL_EPS * (nt__fabs(c->d.x) + nt__fabs(c->d.y));
-    c->tol = nt__max(R(NT_CAST_START_TOLERANCE), 2 * c->tiny0);
+    c->tiny0 = nt__max((nt_real)16 * NT_REAL_EPS * nt__clamp(mag0, (nt_real)1, (nt_real)256), (nt_real)4 * NT_REAL_EPS * mag0);
+    c->tiny_per_t = (nt_real)16 * NT_REAL_EPS * (nt__fabs(c->d.x) + nt__fabs(c->d.y));
+    c->tol = nt__max((nt_real)NT_CAST_START_TOLERANCE, 2 * c->tiny0);
     c->best.t = 2;
     c->best.kind = 0;
     c->best.n = nt_v2(0, 0);

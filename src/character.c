@@ -15,15 +15,15 @@
  * where the last one ended (resting on a surface counts as free, see character.h).
  */
 #include <math.h>
-#include "core.h"
+#include "world_internal.h"
 
 nt_character_def nt_default_character_def(void)
 {
     nt_character_def d;
     memset(&d, 0, sizeof d);
-    d.floor_angle = R(0.87266462599716477); /* 50 degrees: 45 is a floor, 63.4 a wall */
-    d.snap_cells = R(0.5);
-    d.step_cells = R(0.5);
+    d.floor_angle = (nt_real)0.87266462599716477; /* 50 degrees: 45 is a floor, 63.4 a wall */
+    d.snap_cells = (nt_real)0.5;
+    d.step_cells = (nt_real)0.5;
     d.stop_on_slope = true;
     d.constant_speed_on_slopes = false;
     d.slide_on_walls = true;
@@ -38,7 +38,7 @@ static nt_status check_def(const nt_character_def *d)
 {
     if (!nt__finite(d->floor_angle) || !nt__finite(d->snap_cells) || !nt__finite(d->step_cells))
         return NT_ERR_NON_FINITE;
-    if (d->floor_angle < 0 || d->floor_angle > R(1.5707963267948966)) return NT_ERR_INVALID_ARGUMENT;
+    if (d->floor_angle < 0 || d->floor_angle > (nt_real)1.5707963267948966) return NT_ERR_INVALID_ARGUMENT;
     if (d->snap_cells < 0 || d->snap_cells > NT_MAX_HALF_CELLS * 2) return NT_ERR_INVALID_ARGUMENT;
     if (d->step_cells < 0 || d->step_cells > NT_MAX_HALF_CELLS * 2) return NT_ERR_INVALID_ARGUMENT;
     if (d->max_slides < 1 || d->max_slides > 16) return NT_ERR_INVALID_ARGUMENT;
@@ -152,7 +152,7 @@ static bool stops_character(nt_body_id id, void *ctx)
         /* Pushed out of the way, unless wholly below its feet where the move starts:
          * then it is something to stand on (a crate), not to sink into. */
         const nt__body *o = &m->w->bodies[i];
-        return o->p.y - o->half.y >= m->b->p.y + m->b->half.y - m->w->cell * R(NT_CAST_START_TOLERANCE);
+        return o->p.y - o->half.y >= m->b->p.y + m->b->half.y - m->w->cell * (nt_real)NT_CAST_START_TOLERANCE;
     }
     return true;
 }
@@ -230,7 +230,7 @@ static nt_vec2 slide_move(mover *m, nt_vec2 p, nt_vec2 d, nt_vec2 *v, nt_vec2 *w
 {
     nt_vec2 prev_n = nt_v2(0, 0);
     int have_prev = 0;
-    nt_real tiny = m->w->cell * R(1e-7);
+    nt_real tiny = m->w->cell * (nt_real)1e-7;
     *wall_left_over = nt_v2(0, 0);
     for (int k = 0; k < m->c->def.max_slides; k++) {
         if (nt__fabs(d.x) <= tiny && nt__fabs(d.y) <= tiny) break;
@@ -284,7 +284,7 @@ static int step_up(mover *m, nt_vec2 p, nt_vec2 across, nt_vec2 *out)
     t = cast(m, q, a, &h);
     if (t <= 0) return 0;
     q = nt__add(q, nt__scale(a, t));
-    nt_vec2 down = nt_v2(0, (p.y - q.y) + m->w->cell * R(1e-3));
+    nt_vec2 down = nt_v2(0, (p.y - q.y) + m->w->cell * (nt_real)1e-3);
     t = cast(m, q, down, &h);
     if (t >= 1 || classify(m, h.normal) != SURF_FLOOR) return 0;
     q = nt__add(q, nt__scale(down, t));
@@ -327,7 +327,7 @@ static nt_vec2 out_of_bodies(mover *m, nt_vec2 p)
         q.m = m;
         q.p = p;
         q.push = nt_v2(0, 0);
-        q.depth = w->cell * R(NT_CAST_START_TOLERANCE);
+        q.depth = w->cell * (nt_real)NT_CAST_START_TOLERANCE;
         nt__grid_visit(w, nt__sub(p, m->shape.half), nt__add(p, m->shape.half), overlap_visit, &q);
         if (q.push.x == 0 && q.push.y == 0) break;
         p = nt__add(p, q.push);
@@ -367,12 +367,12 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
     q.self = self;
     q.p = p;
     q.s = s;
-    q.s.half = nt_v2(s.half.x + w->cell * R(1e-3), s.half.y + w->cell * R(1e-3));
+    q.s.half = nt_v2(s.half.x + w->cell * (nt_real)1e-3, s.half.y + w->cell * (nt_real)1e-3);
     q.found = 0;
     nt__grid_visit(w, nt__sub(p, q.s.half), nt__add(p, q.s.half), one_way_visit, &q);
     if (q.found) return 1;
     if (!w->oneway_count) return 0;
-    nt_real ic = w->inv_cell, g = R(1e-3);
+    nt_real ic = w->inv_cell, g = (nt_real)1e-3;
     nt_vec2 c = nt_v2(p.x * ic, p.y * ic), h = nt_v2(s.half.x * ic + g, s.half.y * ic + g);
     s.half = h;
     int x0 = nt__ifloor(c.x - h.x), x1 = nt__ifloor(c.x + h.x), y0 = nt__ifloor(c.y - h.y), y1 = nt__ifloor(c.y + h.y);
@@ -435,7 +435,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * solid go nowhere. */
     const nt_map *solid = w->solid ? w->solid : w->map;
     int checked = c->free_checked & (c->free_epoch == w->map_epoch) & (c->free_p.x == p.x) & (c->free_p.y == p.y);
-    if (!checked && nt_map_overlap_depth(solid, p, m.shape) > w->cell * R(NT_CAST_START_TOLERANCE)) {
+    if (!checked && nt_map_overlap_depth(solid, p, m.shape) > w->cell * (nt_real)NT_CAST_START_TOLERANCE) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
     }
@@ -469,7 +469,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         /* A floor sloping down as steeply as floor_angle falls away by |dx| tan(angle)
          * under a move dx across: a sloped floor is followed down by that much more
          * than the snap distance, at any speed (a flat one only by the snap distance). */
-        nt_real snap = nt__max(c->def.snap_cells * w->cell, w->cell * R(2e-3));
+        nt_real snap = nt__max(c->def.snap_cells * w->cell, w->cell * (nt_real)2e-3);
         nt_real across = nt__fabs(p.x - p_move.x);
         nt_real reach = snap + (c->def.snap_cells > 0 ? across * c->floor_tan : 0);
         nt_vec2 down = nt_v2(0, reach);
@@ -478,7 +478,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
             (t * reach <= snap || t * reach * -h.normal.y <= snap * -h.normal.y + across * nt__fabs(h.normal.x))) {
             p = nt__add(p, nt__scale(down, t));
             note(&m, SURF_FLOOR, &h);
-            rp->snapped = t * reach > w->cell * R(2e-3);
+            rp->snapped = t * reach > w->cell * (nt_real)2e-3;
             v = slide_motion(&m, v, h.normal, SURF_FLOOR);
         }
     }
@@ -506,10 +506,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
      * deeper each time, in float. Past half the resting tolerance it is lifted back
      * out by the shortest way, so that no move ends deeper than that. */
     int met = rp->slide_count || rp->snapped || rp->stepped_up || platform.x != 0 || platform.y != 0, free_end = 1;
-    if (met && nt__map_depth_exceeds(solid, p, &m.shape, w->cell * R(0.5 * NT_CAST_START_TOLERANCE))) {
+    if (met && nt__map_depth_exceeds(solid, p, &m.shape, w->cell * (nt_real)(0.5 * NT_CAST_START_TOLERANCE))) {
         nt_resolution res;
         if (nt_map_resolve(solid, p, m.shape, &res)) p = nt__add(p, res.push);
-        free_end = nt_map_overlap_depth(solid, p, m.shape) <= w->cell * R(NT_CAST_START_TOLERANCE);
+        free_end = nt_map_overlap_depth(solid, p, m.shape) <= w->cell * (nt_real)NT_CAST_START_TOLERANCE;
     }
     /* A move from a free place that met nothing ends free: the next move need not ask. */
     c->free_checked = (uint8_t)free_end;

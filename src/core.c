@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
-#include "core.h"
+#include "internal.h"
 
 #define CAP_TEXT_(n) #n
 #define CAP_TEXT(n) CAP_TEXT_(n)
@@ -129,8 +129,8 @@ nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax)
 {
     nt_real x = v.x == v.x ? v.x : 0, y = v.y == v.y ? v.y : 0;
     if (nt__fabs(x) > NT_REAL_MAX || nt__fabs(y) > NT_REAL_MAX) { /* an infinity: its sign is the direction */
-        x = nt__fabs(x) > NT_REAL_MAX ? (x > 0 ? R(1) : R(-1)) : 0;
-        y = nt__fabs(y) > NT_REAL_MAX ? (y > 0 ? R(1) : R(-1)) : 0;
+        x = nt__fabs(x) > NT_REAL_MAX ? (x > 0 ? (nt_real)1 : (nt_real)-1) : 0;
+        y = nt__fabs(y) > NT_REAL_MAX ? (y > 0 ? (nt_real)1 : (nt_real)-1) : 0;
     }
     nt_real m = nt__max(nt__fabs(x), nt__fabs(y));
     if (m == 0) return nt_v2(0, 0);

@@ -43,8 +43,8 @@ static char material_char(int m) { return m == 0 ? '.' : (char)(m < 10 ? '0' + m
 static nt_material n_material(void)
 {
     nt_material m;
-    m.friction = R(0.05);
-    m.bounce = R(0.3);
+    m.friction = (nt_real)0.05;
+    m.bounce = (nt_real)0.3;
     return m;
 }
 
@@ -245,7 +245,7 @@ static int inside_map(const nt_level *lv, nt_vec2 p, nt_vec2 h)
  * their spawner says. */
 static int body_fits_map(const nt_level *lv, const nt_level_body *b)
 {
-    nt_real lim = lv->cell_size * R(0.5);
+    nt_real lim = lv->cell_size * (nt_real)0.5;
     if (b->is_template || (b->shape.half.x <= lim && b->shape.half.y <= lim)) return 1;
     return inside_map(lv, b->position, b->shape.half) && inside_map(lv, last_instance(b), b->shape.half);
 }

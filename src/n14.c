@@ -157,7 +157,7 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
         return add_body(im, "gold", 0, &b, col);
     case 1: /* bounce block */
         b.type = NT_BODY_DYNAMIC;
-        b.shape = nt_shape_aabb(R(9.6), R(9.6));
+        b.shape = nt_shape_aabb((nt_real)9.6, (nt_real)9.6);
         return add_body(im, "block", 1, &b, col);
     case 2: { /* launch pad: the cell behind the pad, against its normal */
         nt_real nx = v[2], ny = v[3];

@@ -28,7 +28,7 @@
  *     cell's `seams` bit) is not chosen as the surface normal when another one is.
  */
 #include <float.h>
-#include "core.h"
+#include "internal.h"
 
 /* ------------------------------------------------------------------------------ */
 /* Entry selection: the latest entering constraint, with ties resolved toward faces  */
@@ -86,7 +86,7 @@ static inline nt_real t_tol(nt_vec2 p, nt_vec2 d)
 {
     nt_real s = nt__fabs(d.x) + nt__fabs(d.y);
     if (!(s > 0)) return 0;
-    return R(32) * NT_REAL_EPS * (1 + nt__fabs(p.x) + nt__fabs(p.y)) / s;
+    return (nt_real)32 * NT_REAL_EPS * (1 + nt__fabs(p.x) + nt__fabs(p.y)) / s;
 }
 
 /* The interior run (lo, hi) is a hit for the segment t in [0, tmax]: it contains the
@@ -116,8 +116,8 @@ static inline int edge_side(nt_vec2 a, nt_vec2 b)
 /* Unit outward normal of the polygon edge a->b (exact normal (a.y - b.y, b.x - a.x)). */
 static inline nt_vec2 edge_unit_normal(const nt_tile_info *ti, nt_real nx, nt_real ny)
 {
-    if (nx == 0) return nt_v2(0, ny > 0 ? R(1) : R(-1));
-    if (ny == 0) return nt_v2(nx > 0 ? R(1) : R(-1), 0);
+    if (nx == 0) return nt_v2(0, ny > 0 ? (nt_real)1 : (nt_real)-1);
+    if (ny == 0) return nt_v2(nx > 0 ? (nt_real)1 : (nt_real)-1, 0);
     return ti->normal; /* the one sloped edge */
 }
 
@@ -163,9 +163,9 @@ static bool ray_polygon(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned m
 }
 
 /* The cell's sides as half-planes: inside iff nx*x + ny*y < off (indexed by nt_side). */
-static const nt_real side_nx[4] = {R(-1), R(1), R(0), R(0)};
-static const nt_real side_ny[4] = {R(0), R(0), R(-1), R(1)};
-static const nt_real side_off[4] = {R(0), R(1), R(0), R(1)};
+static const nt_real side_nx[4] = {(nt_real)-1, (nt_real)1, (nt_real)0, (nt_real)0};
+static const nt_real side_ny[4] = {(nt_real)0, (nt_real)0, (nt_real)-1, (nt_real)1};
+static const nt_real side_off[4] = {(nt_real)0, (nt_real)1, (nt_real)0, (nt_real)1};
 
 /* The sides of a round tile that are straight faces: the ones its solid covers whole. */
 static inline unsigned straight_sides(const nt_tile_info *ti)
@@ -210,7 +210,7 @@ static int disc_interval(nt_vec2 p, nt_vec2 d, nt_vec2 c, nt_real *t1, nt_real *
     nt_real disc = b * b - a * cc;
     /* A tangent line only touches the disc: a discriminant within the rounding of its
      * two terms is treated as zero (a graze, not an entry). */
-    if (!(disc > R(8) * NT_REAL_EPS * (b * b + nt__fabs(a * cc)))) return 0;
+    if (!(disc > (nt_real)8 * NT_REAL_EPS * (b * b + nt__fabs(a * cc)))) return 0;
     nt_real sq = nt__sqrt(disc);
     nt_real q = b >= 0 ? -(b + sq) : -(b - sq);
     nt_real r1 = q / a, r2 = cc / q;
@@ -342,7 +342,7 @@ static bool concave_miss(const nt_tile_info *ti, nt_vec2 p, nt_vec2 d, nt_real t
         return true;
     }
     *t_out = (nt_real)t;
-    if (on_arc) *n_out = unit(nt__scale(nt__add(nt__sub(p, ti->arc_center), nt__scale(d, *t_out)), R(-1)));
+    if (on_arc) *n_out = unit(nt__scale(nt__add(nt__sub(p, ti->arc_center), nt__scale(d, *t_out)), (nt_real)-1));
     else *n_out = entry_normal(e, t_tol(p, d));
     return true;
 #endif
@@ -389,7 +389,7 @@ static bool ray_concave(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned m
     if (d2 > A || (d2 == A && e.masked)) {
         /* Leaving the disc: the surface normal points toward the arc's centre. */
         *t_out = d2;
-        *n_out = unit(nt__scale(nt__add(f, nt__scale(d, d2)), R(-1)));
+        *n_out = unit(nt__scale(nt__add(f, nt__scale(d, d2)), (nt_real)-1));
     } else {
         *t_out = A;
         *n_out = entry_normal(&e, tol);
@@ -445,7 +445,7 @@ static inline int corner_full(int tile, int cx, int cy)
 {
     const nt_tile_info *ti = &nt__tiles[tile];
     int sh = cy ? NT_SIDE_BOTTOM : NT_SIDE_TOP, sv = cx ? NT_SIDE_RIGHT : NT_SIDE_LEFT;
-    nt_real uh = R(cx), uv = R(cy);
+    nt_real uh = (nt_real)cx, uv = (nt_real)cy;
     return ti->cover_lo[sh] < ti->cover_hi[sh] && ti->cover_lo[sh] <= uh && uh <= ti->cover_hi[sh] &&
            ti->cover_lo[sv] < ti->cover_hi[sv] && ti->cover_lo[sv] <= uv && uv <= ti->cover_hi[sv];
 }
@@ -457,13 +457,13 @@ static bool point_interior(const nt_map *m, nt_vec2 g, int ix, int iy, int onx, 
 {
     /* g, ix, iy relative to the cell (ox, oy) */
     const int X = ix + ox, Y = iy + oy;
-    if (!onx && !ony) return nt_tile_contains_point(nt__map_tile(m, X, Y), nt_v2(g.x - R(ix), g.y - R(iy)));
+    if (!onx && !ony) return nt_tile_contains_point(nt__map_tile(m, X, Y), nt_v2(g.x - (nt_real)ix, g.y - (nt_real)iy));
     if (onx && !ony) {
-        nt_real u = g.y - R(iy);
+        nt_real u = g.y - (nt_real)iy;
         return cover_has(nt__map_tile(m, X - 1, Y), NT_SIDE_RIGHT, u) && cover_has(nt__map_tile(m, X, Y), NT_SIDE_LEFT, u);
     }
     if (ony && !onx) {
-        nt_real u = g.x - R(ix);
+        nt_real u = g.x - (nt_real)ix;
         return cover_has(nt__map_tile(m, X, Y - 1), NT_SIDE_BOTTOM, u) && cover_has(nt__map_tile(m, X, Y), NT_SIDE_TOP, u);
     }
     return corner_full(nt__map_tile(m, X - 1, Y - 1), 1, 1) && corner_full(nt__map_tile(m, X, Y - 1), 0, 1) &&
@@ -526,7 +526,7 @@ static bool report(const ray_ctx *r, nt_real t, nt_vec2 n, int cx, int cy, nt_ra
     if (t < 0) t = 0;
     if (out) {
         nt_real f = t / r->tend;
-        out->fraction = f > 1 ? R(1) : f;
+        out->fraction = f > 1 ? (nt_real)1 : f;
         out->point = t > 0 ? nt_v2(r->p0.x + t * r->d.x, r->p0.y + t * r->d.y) : r->p0;
         out->normal = n;
         out->cell_x = cx;
@@ -545,12 +545,12 @@ static bool gridline_walk(const ray_ctx *r, int axis, int line, nt_ray_hit *out)
     nt_real ds = axis == 0 ? r->gd.x : r->gd.y;
     int step = ds > 0 ? 1 : -1;
     int i = nt__floor_int(s0);
-    if (R(i) == s0 && ds < 0) i--;
+    if ((nt_real)i == s0 && ds < 0) i--;
     const int sa = axis == 0 ? NT_SIDE_BOTTOM : NT_SIDE_RIGHT; /* side of the cell before the line */
     const int sb = axis == 0 ? NT_SIDE_TOP : NT_SIDE_LEFT;     /* side of the cell after it */
-    nt_vec2 dir = axis == 0 ? nt_v2(R(step), 0) : nt_v2(0, R(step));
+    nt_vec2 dir = axis == 0 ? nt_v2((nt_real)step, 0) : nt_v2(0, (nt_real)step);
     for (int guard = 0; guard < 2 * NT_MAP_MAX_SIDE + 8; guard++, i += step) {
-        nt_real near = R(step > 0 ? i : i + 1);
+        nt_real near = (nt_real)(step > 0 ? i : i + 1);
         if ((near - s0) / ds >= r->tend) break;
         int ax = axis == 0 ? i : line - 1, ay = axis == 0 ? line - 1 : i;
         int bx = axis == 0 ? i : line, by = axis == 0 ? line : i;
@@ -560,8 +560,8 @@ static bool gridline_walk(const ray_ctx *r, int axis, int line, nt_ray_hit *out)
         nt_real hi = nt__min(ia->cover_hi[sa], ib->cover_hi[sb]);
         if (!(lo < hi)) continue;
         nt_real u = step > 0 ? lo : hi;
-        nt_real t_in = (R(i) + u - s0) / ds;
-        nt_real t_out = (R(i) + (step > 0 ? hi : lo) - s0) / ds;
+        nt_real t_in = ((nt_real)i + u - s0) / ds;
+        nt_real t_out = ((nt_real)i + (step > 0 ? hi : lo) - s0) / ds;
         if (!(t_out > 0)) continue; /* behind the start */
         if (t_in >= r->tend) break;
         if (t_in < 0) return report(r, 0, nt_v2(0, 0), bx + r->ox, by + r->oy, out);
@@ -598,7 +598,7 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
     r.d = nt__sub(p1, p0);
 
     /* Outside the map: inside the border's solid. */
-    if (!(ga.x >= 0 && ga.y >= 0 && ga.x <= R(map->w) && ga.y <= R(map->h)))
+    if (!(ga.x >= 0 && ga.y >= 0 && ga.x <= (nt_real)map->w && ga.y <= (nt_real)map->h))
         return report(&r, 0, nt_v2(0, 0), nt__floor_int(ga.x), nt__floor_int(ga.y), out);
 
     /* The walk works from the corner of the start's cell (ox, oy): the start is taken
@@ -613,7 +613,7 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
                  (nt_real)(((double)p0.y - (double)r.oy * (double)cs) / (double)cs));
 
     const int ix = nt__floor_int(r.g0.x), iy = nt__floor_int(r.g0.y);
-    const int onx = R(ix) == r.g0.x, ony = R(iy) == r.g0.y;
+    const int onx = (nt_real)ix == r.g0.x, ony = (nt_real)iy == r.g0.y;
 
     /* Direction in cells. A huge segment (p1 - p0 overflowing) is scaled down by powers
      * of two: t then runs over [0, tend] with tend = 2^k. */
@@ -621,7 +621,7 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
     if (!nt__finite(r.gd.x) || !nt__finite(r.gd.y)) {
         nt_real k = 1;
         do {
-            k *= R(0.5);
+            k *= (nt_real)0.5;
             r.d = nt__sub(nt__scale(p1, k), nt__scale(p0, k));
             r.gd = nt_v2(r.d.x / cs, r.d.y / cs);
         } while (!nt__finite(r.gd.x) || !nt__finite(r.gd.y));
@@ -660,11 +660,11 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
     nt_vec2 n;
     nt__cell cur = cell_at(map, cx + r.ox, cy + r.oy);
     if (cur.tile != NT_TILE_EMPTY &&
-        ray_tile_m(cur.tile, nt_v2(r.g0.x - R(cx), r.g0.y - R(cy)), r.gd, r.tend, cur.seams, &t, &n))
+        ray_tile_m(cur.tile, nt_v2(r.g0.x - (nt_real)cx, r.g0.y - (nt_real)cy), r.gd, r.tend, cur.seams, &t, &n))
         return report(&r, t, n, cx + r.ox, cy + r.oy, out);
 
     /* Rounding of the crossing point along an edge, in cells. */
-    const nt_real vtol = R(64) * NT_REAL_EPS *
+    const nt_real vtol = (nt_real)64 * NT_REAL_EPS *
                          (1 + nt__fabs(r.g0.x) + nt__fabs(r.g0.y) + nt__fabs(r.gd.x) + nt__fabs(r.gd.y));
     /* Inside the map the walk meets the border within w + h + 2 steps. */
     const int max_steps = 2 * (map->w + map->h) + 16;
@@ -696,27 +696,27 @@ bool nt_map_raycast(const nt_map *map, nt_vec2 p0, nt_vec2 p1, nt_ray_hit *out)
              * tile test below decides instead. */
             nt_real v;
             if (side <= NT_SIDE_RIGHT) {
-                t = (R(stepx > 0 ? cx : cx + 1) - r.g0.x) / r.gd.x;
-                v = r.g0.y + t * r.gd.y - R(cy);
-                n = nt_v2(R(-stepx), 0);
+                t = ((nt_real)(stepx > 0 ? cx : cx + 1) - r.g0.x) / r.gd.x;
+                v = r.g0.y + t * r.gd.y - (nt_real)cy;
+                n = nt_v2((nt_real)-stepx, 0);
             } else {
-                t = (R(stepy > 0 ? cy : cy + 1) - r.g0.y) / r.gd.y;
-                v = r.g0.x + t * r.gd.x - R(cx);
-                n = nt_v2(0, R(-stepy));
+                t = ((nt_real)(stepy > 0 ? cy : cy + 1) - r.g0.y) / r.gd.y;
+                v = r.g0.x + t * r.gd.x - (nt_real)cx;
+                n = nt_v2(0, (nt_real)-stepy);
             }
             if (t >= r.tend) return false;
             if (v > vtol && v < 1 - vtol) {
                 report(&r, t, n, cx + r.ox, cy + r.oy, out);
                 if (out) { /* put the point exactly on the wall */
-                    if (side <= NT_SIDE_RIGHT) out->point.x = R(r.ox + (stepx > 0 ? cx : cx + 1)) * cs;
-                    else out->point.y = R(r.oy + (stepy > 0 ? cy : cy + 1)) * cs;
+                    if (side <= NT_SIDE_RIGHT) out->point.x = (nt_real)(r.ox + (stepx > 0 ? cx : cx + 1)) * cs;
+                    else out->point.y = (nt_real)(r.oy + (stepy > 0 ? cy : cy + 1)) * cs;
                 }
                 return true;
             }
         }
         cur = cell_at(map, cx + r.ox, cy + r.oy);
         if (cur.tile == NT_TILE_EMPTY) continue;
-        if (ray_tile_m(cur.tile, nt_v2(r.g0.x - R(cx), r.g0.y - R(cy)), r.gd, r.tend, cur.seams, &t, &n))
+        if (ray_tile_m(cur.tile, nt_v2(r.g0.x - (nt_real)cx, r.g0.y - (nt_real)cy), r.gd, r.tend, cur.seams, &t, &n))
             return report(&r, t, n, cx + r.ox, cy + r.oy, out);
     }
     return false;

@@ -16,7 +16,7 @@ nt_status nt_replay_create(int ticks, nt_replay **out)
     nt_replay *rp = (nt_replay *)nt__alloc(sizeof *rp);
     if (!rp) return NT_ERR_OUT_OF_MEMORY;
     memset(rp, 0, sizeof *rp);
-    rp->dt = R(0.025);
+    rp->dt = (nt_real)0.025;
     rp->ticks = ticks;
     *out = rp;
     return NT_OK;

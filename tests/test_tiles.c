@@ -15,7 +15,7 @@
 #include "ntile/ntile.h"
 #include "ref.h"
 /* The engine's internal tables, for the check that they agree with each other. */
-#include "../src/core.h"
+#include "../src/internal.h"
 
 #define NTILES 34
 
@@ -548,7 +548,7 @@ static void test_masks_never_invent_overlap(void **state)
             checked++;
         }
     nt_mtv m;
-    assert_int_equal(nt__collide_tile_circle_m(NT_TILE_45DEGpp, nt_v2(R(1.3966), R(-1.2761)), R(1.2773),
+    assert_int_equal(nt__collide_tile_circle_m(NT_TILE_45DEGpp, nt_v2((nt_real)1.3966, (nt_real)-1.2761), (nt_real)1.2773,
                                                1u << NT_SIDE_TOP, &m),
                      NT__SEPARATE);
     print_message("  %ld clear placements, every mask\n", checked);

@@ -14,9 +14,9 @@
 #include "ntile/ntile.h"
 #include "ref.h"
 
-#include "../src/core.h" /* the broad phase's pair list, for the brute-force comparison */
+#include "../src/world_internal.h" /* the broad phase's pair list, for the brute-force comparison */
 
-static const nt_real DT = R(1.0 / 60);
+static const nt_real DT = (nt_real)(1.0 / 60);
 
 static nt_world *make_world(int w, int h, nt_real cell, nt_vec2 gravity, nt_friction_model model, bool sleep)
 {
@@ -26,13 +26,13 @@ static nt_world *make_world(int w, int h, nt_real cell, nt_vec2 gravity, nt_fric
     d.map.cell_size = cell;
     d.gravity = gravity;
     d.friction_model = model;
-    d.tile_material.friction = model == NT_FRICTION_COULOMB ? R(0.5) : R(0.05);
+    d.tile_material.friction = model == NT_FRICTION_COULOMB ? (nt_real)0.5 : (nt_real)0.05;
     d.tile_material.bounce = 0;
-    d.restitution_threshold = R(0.5) * cell;
-    d.hit_event_threshold = R(0.5) * cell;
+    d.restitution_threshold = (nt_real)0.5 * cell;
+    d.hit_event_threshold = (nt_real)0.5 * cell;
     d.enable_sleep = sleep;
-    d.sleep_speed = R(0.05) * cell;
-    d.sleep_time = R(0.5);
+    d.sleep_speed = (nt_real)0.05 * cell;
+    d.sleep_time = (nt_real)0.5;
     nt_world *world = NULL;
     assert_int_equal(nt_world_create(&d, &world), NT_OK);
     return world;
@@ -58,17 +58,17 @@ static void test_bad_input(void **state)
 {
     (void)state;
     nt_world *w = make_world(20, 12, 2, nt_v2(0, 20), NT_FRICTION_N, true);
-    nt_body_id keep = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, 2), nt_v2(10, 10), nt_v2(1, 0), R(0.1));
+    nt_body_id keep = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, 2), nt_v2(10, 10), nt_v2(1, 0), (nt_real)0.1);
     uint64_t h0 = nt_world_hash(w);
-    nt_real cap = R(2) * NT_MAX_HALF_CELLS; /* cell 2 */
+    nt_real cap = (nt_real)2 * NT_MAX_HALF_CELLS; /* cell 2 */
     struct {
         nt_shape s;
         nt_vec2 p;
         nt_status want;
     } cases[] = {
-        {nt_shape_aabb(cap * R(1.0001), 1), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
-        {nt_shape_aabb(1, cap * R(1.0001)), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
-        {nt_shape_circle(cap * R(1.0001)), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
+        {nt_shape_aabb(cap * (nt_real)1.0001, 1), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
+        {nt_shape_aabb(1, cap * (nt_real)1.0001), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
+        {nt_shape_circle(cap * (nt_real)1.0001), nt_v2(20, 12), NT_ERR_SHAPE_TOO_LARGE},
         {nt_shape_aabb((nt_real)NAN, 3), nt_v2(20, 12), NT_ERR_NON_FINITE},
         {nt_shape_circle((nt_real)INFINITY), nt_v2(20, 12), NT_ERR_NON_FINITE},
         {nt_shape_aabb(3, 0), nt_v2(20, 12), NT_ERR_INVALID_ARGUMENT},
@@ -76,8 +76,8 @@ static void test_bad_input(void **state)
         /* Large bodies reaching over the map's edge (map 40 x 24 units). */
         {nt_shape_aabb(3, 1), nt_v2(2, 12), NT_ERR_OUT_OF_RANGE},
         {nt_shape_aabb(3, 1), nt_v2(38, 12), NT_ERR_OUT_OF_RANGE},
-        {nt_shape_circle(2), nt_v2(20, R(1.5)), NT_ERR_OUT_OF_RANGE},
-        {nt_shape_circle(2), nt_v2(20, R(22.5)), NT_ERR_OUT_OF_RANGE},
+        {nt_shape_circle(2), nt_v2(20, (nt_real)1.5), NT_ERR_OUT_OF_RANGE},
+        {nt_shape_circle(2), nt_v2(20, (nt_real)22.5), NT_ERR_OUT_OF_RANGE},
         {nt_shape_aabb(8, 8), nt_v2(-30, 12), NT_ERR_OUT_OF_RANGE},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -101,8 +101,8 @@ static void test_bad_input(void **state)
     nt_vec2 p0 = nt_body_get_position(w, round);
     assert_int_equal(nt_body_set_position(w, round, nt_v2(39, 12)), NT_ERR_OUT_OF_RANGE);
     assert_true(nt_body_get_position(w, round).x == p0.x);
-    assert_int_equal(nt_body_set_position(w, keep, nt_v2(R(0.5), 10)), NT_ERR_OUT_OF_RANGE);
-    assert_int_equal(nt_body_set_position(w, keep, nt_v2(R(1.0), 10)), NT_OK);
+    assert_int_equal(nt_body_set_position(w, keep, nt_v2((nt_real)0.5, 10)), NT_ERR_OUT_OF_RANGE);
+    assert_int_equal(nt_body_set_position(w, keep, nt_v2((nt_real)1.0, 10)), NT_OK);
     assert_true(nt_body_get_shape(w, big).half.x == cap);
     assert_non_null(strstr(nt_status_string(NT_ERR_SHAPE_TOO_LARGE), "4 cells")); /* the cap in the message */
     nt_world_destroy(w);
@@ -155,7 +155,7 @@ static void test_broad_phase_vs_brute_force(void **state)
     (void)state;
     ref_rng rng = ref_rng_seed(1800);
     for (int round = 0; round < 24; round++) {
-        const nt_real cell = round % 3 == 0 ? R(1) : R(24);
+        const nt_real cell = round % 3 == 0 ? (nt_real)1 : (nt_real)24;
         const int W = 24 + ref_rng_int(&rng, 20), H = 18 + ref_rng_int(&rng, 12);
         nt_world *w = make_world(W, H, cell, nt_v2(0, 0), NT_FRICTION_COULOMB, true);
         int n = 60 + ref_rng_int(&rng, 200);
@@ -243,10 +243,10 @@ static void test_kinematic_platform_carries_riders(void **state)
     const double dirs[3][2] = {{1, 0}, {0, 1}, {0.6, 0.8}};
     for (int m = 0; m < 3; m++) {
         nt_world *w = make_world(80, 60, 1, nt_v2(0, 10), NT_FRICTION_COULOMB, true);
-        nt_body_id plat = add_body(w, NT_BODY_KINEMATIC, nt_shape_aabb(2, R(0.5)), nt_v2(40, 30), nt_v2(0, 0), 1);
-        nt_real skin = R(2.5e-4);
-        nt_body_id box = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.5), 1), nt_v2(39, R(28.5) + skin), nt_v2(0, 0), 1);
-        nt_body_id ball = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle(R(0.3)), nt_v2(R(41.2), R(29.2) + skin),
+        nt_body_id plat = add_body(w, NT_BODY_KINEMATIC, nt_shape_aabb(2, (nt_real)0.5), nt_v2(40, 30), nt_v2(0, 0), 1);
+        nt_real skin = (nt_real)2.5e-4;
+        nt_body_id box = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)0.5, 1), nt_v2(39, (nt_real)28.5 + skin), nt_v2(0, 0), 1);
+        nt_body_id ball = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle((nt_real)0.3), nt_v2((nt_real)41.2, (nt_real)29.2 + skin),
                                    nt_v2(0, 0), 1);
         /* Settle at rest first. */
         for (int k = 0; k < 60; k++) assert_int_equal(nt_world_step(w, DT), NT_OK);
@@ -316,8 +316,8 @@ static void test_tall_box_walks_over_seams_and_slopes(void **state)
             build_course(w);
             const nt_real speed = 4; /* cells/s */
             double x = dir > 0 ? 3 : COURSE_W - 3;
-            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.5), 1), nt_v2((nt_real)x, COURSE_F - 1),
-                                     nt_v2(0, 0), R(0.2));
+            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)0.5, 1), nt_v2((nt_real)x, COURSE_F - 1),
+                                     nt_v2(0, 0), (nt_real)0.2);
             for (int k = 0; k < 30; k++) nt_world_step(w, DT); /* land */
             int steps = 0, flat_checks = 0;
             double worst_rise = 0, worst_depth = 0;
@@ -362,8 +362,8 @@ static void test_tall_box_walks_over_seams_and_slopes(void **state)
 static void test_large_bodies_fired_at_every_tile(void **state)
 {
     (void)state;
-    const nt_shape shapes[] = {nt_shape_aabb(R(0.6), R(0.6)), nt_shape_aabb(4, R(0.5)), nt_shape_aabb(R(0.5), 4),
-                               nt_shape_circle(2), nt_shape_circle(R(0.75)), nt_shape_aabb(3, 3)};
+    const nt_shape shapes[] = {nt_shape_aabb((nt_real)0.6, (nt_real)0.6), nt_shape_aabb(4, (nt_real)0.5), nt_shape_aabb((nt_real)0.5, 4),
+                               nt_shape_circle(2), nt_shape_circle((nt_real)0.75), nt_shape_aabb(3, 3)};
     const double speeds[] = {4, 2.5, 1}; /* cells per step; 4 is the speed limit */
     const double angles[] = {0, 0.5};
     double worst = 0;
@@ -385,7 +385,7 @@ static void test_large_bodies_fired_at_every_tile(void **state)
                             double va = -side * sp * cos(a), vc = sp * sin(a);
                             nt_vec2 p = vertical ? nt_v2((nt_real)across, (nt_real)along) : nt_v2((nt_real)along, (nt_real)across);
                             nt_vec2 v = vertical ? nt_v2((nt_real)vc, (nt_real)va) : nt_v2((nt_real)va, (nt_real)vc);
-                            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, s, p, v, R(0.05));
+                            nt_body_id id = add_body(w, NT_BODY_DYNAMIC, s, p, v, (nt_real)0.05);
                             for (int k = 0; k < 12; k++) {
                                 assert_int_equal(nt_world_step(w, DT), NT_OK);
                                 nt_vec2 q = nt_body_get_position(w, id);
@@ -427,8 +427,8 @@ static void test_mixed_pile_settles(void **state)
         ref_rng rng = ref_rng_seed(18 + (unsigned)model);
         nt_body_id ids[96];
         int n = 0;
-        const nt_shape large[] = {nt_shape_aabb(R(0.5), 1), nt_shape_aabb(1, 1), nt_shape_circle(R(1.5)),
-                                  nt_shape_aabb(3, R(0.4)), nt_shape_aabb(2, 2), nt_shape_circle(R(0.8))};
+        const nt_shape large[] = {nt_shape_aabb((nt_real)0.5, 1), nt_shape_aabb(1, 1), nt_shape_circle((nt_real)1.5),
+                                  nt_shape_aabb(3, (nt_real)0.4), nt_shape_aabb(2, 2), nt_shape_circle((nt_real)0.8)};
         for (int row = 0; row < 8; row++)
             for (int col = 0; col < 10 && n < 96; col++) {
                 nt_shape s;
@@ -439,7 +439,7 @@ static void test_mixed_pile_settles(void **state)
                 x = fmin(fmax(x, 1 + s.half.x + 0.01), 31 - s.half.x - 0.01);
                 double y = 20 - row * 2.6;
                 if (y - s.half.y < 0.5) continue;
-                ids[n++] = add_body(w, NT_BODY_DYNAMIC, s, nt_v2((nt_real)x, (nt_real)y), nt_v2(0, 0), R(0.4));
+                ids[n++] = add_body(w, NT_BODY_DYNAMIC, s, nt_v2((nt_real)x, (nt_real)y), nt_v2(0, 0), (nt_real)0.4);
             }
         double worst_tile = 0, worst_pair = 0;
         int step = 0, asleep_at = -1;
@@ -615,12 +615,12 @@ static void test_draw_hash_events_sleep(void **state)
     /* Debug draw: the bodies at full size, and the coarse cell holding each. */
     nt_world *w = make_world(30, 20, 1, nt_v2(0, 10), NT_FRICTION_COULOMB, true);
     for (int x = 0; x < 30; x++) nt_world_set_tile(w, x, 19, NT_TILE_FULL);
-    nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(1.5), 1), nt_v2(10, 8), nt_v2(0, 0), R(0.5));
-    nt_body_id ball = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle(R(2.5)), nt_v2(20, 8), nt_v2(0, 0), R(0.5));
+    nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)1.5, 1), nt_v2(10, 8), nt_v2(0, 0), (nt_real)0.5);
+    nt_body_id ball = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle((nt_real)2.5), nt_v2(20, 8), nt_v2(0, 0), (nt_real)0.5);
     draw_log log;
     memset(&log, 0, sizeof log);
-    log.want_half = nt_v2(R(1.5), 1);
-    log.want_radius = R(2.5);
+    log.want_half = nt_v2((nt_real)1.5, 1);
+    log.want_radius = (nt_real)2.5;
     log.coarse_side = 4; /* the crate's level: half 1.5 cells, cells 4 wide */
     nt_debug_draw dd = nt_default_debug_draw();
     dd.draw_box = log_box;
@@ -647,7 +647,7 @@ static void test_draw_hash_events_sleep(void **state)
     for (int k = 0; k < 120 && nt_body_is_awake(w, crate); k++) nt_world_step(w, DT);
     assert_false(nt_body_is_awake(w, crate));
     assert_false(nt_body_is_awake(w, ball));
-    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.3), R(0.3)), nt_v2(11, 12), nt_v2(0, 0), R(0.5));
+    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)0.3, (nt_real)0.3), nt_v2(11, 12), nt_v2(0, 0), (nt_real)0.5);
     int began = 0;
     for (int k = 0; k < 120; k++) {
         nt_world_step(w, DT);
@@ -666,8 +666,8 @@ static void test_draw_hash_events_sleep(void **state)
     for (int run = 0; run < 2; run++) {
         nt_world *v = make_world(30, 20, 1, nt_v2(0, 10), NT_FRICTION_N, true);
         for (int x = 0; x < 30; x++) nt_world_set_tile(v, x, 19, NT_TILE_FULL);
-        add_body(v, NT_BODY_DYNAMIC, nt_shape_aabb(3, R(0.5)), nt_v2(10, 5), nt_v2(3, 0), R(0.1));
-        add_body(v, NT_BODY_DYNAMIC, nt_shape_circle(2), nt_v2(20, 5), nt_v2(-2, 0), R(0.1));
+        add_body(v, NT_BODY_DYNAMIC, nt_shape_aabb(3, (nt_real)0.5), nt_v2(10, 5), nt_v2(3, 0), (nt_real)0.1);
+        add_body(v, NT_BODY_DYNAMIC, nt_shape_circle(2), nt_v2(20, 5), nt_v2(-2, 0), (nt_real)0.1);
         uint64_t h0 = nt_world_hash(v);
         for (int k = 0; k < 200; k++) nt_world_step(v, DT);
         hs[run] = nt_world_hash(v);
@@ -689,7 +689,7 @@ static void test_large_one_way(void **state)
             nt_world_set_tile(w, x, 12, NT_TILE_HALFu);
             if (flag) assert_int_equal(nt_world_set_cell_flags(w, x, 12, NT_CELL_ONE_WAY), NT_OK);
         }
-        nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, R(0.5)), nt_v2(9, R(22.5)), nt_v2(0, -16), R(0.5));
+        nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, (nt_real)0.5), nt_v2(9, (nt_real)22.5), nt_v2(0, -16), (nt_real)0.5);
         double top = 100;
         for (int k = 0; k < 240; k++) {
             nt_world_step(w, DT);
@@ -718,9 +718,9 @@ static void test_large_speculative_contacts(void **state)
     (void)state;
     for (int target = 0; target < 2; target++) {
         nt_world *w = make_world(40, 20, 1, nt_v2(0, 0), NT_FRICTION_COULOMB, false);
-        nt_body_id other = target ? add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.5), 1), nt_v2(30, 10), nt_v2(0, 0), 0)
-                                  : add_body(w, NT_BODY_STATIC, nt_shape_aabb(R(0.5), 2), nt_v2(30, 10), nt_v2(0, 0), 0);
-        nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, 1), nt_v2(10, R(10.3)), nt_v2(R(0.8) / DT, 0), 0);
+        nt_body_id other = target ? add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)0.5, 1), nt_v2(30, 10), nt_v2(0, 0), 0)
+                                  : add_body(w, NT_BODY_STATIC, nt_shape_aabb((nt_real)0.5, 2), nt_v2(30, 10), nt_v2(0, 0), 0);
+        nt_body_id crate = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(1, 1), nt_v2(10, (nt_real)10.3), nt_v2((nt_real)0.8 / DT, 0), 0);
         double worst = 0;
         for (int k = 0; k < 40; k++) {
             assert_int_equal(nt_world_step(w, DT), NT_OK);
@@ -745,8 +745,8 @@ static void test_large_sensor(void **state)
     d.position = nt_v2(20, 10);
     nt_body_id zone;
     assert_int_equal(nt_body_create(w, &d, &zone), NT_OK);
-    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle(R(0.3)), nt_v2(10, 9), nt_v2(6, 0), 0);
-    nt_body_id big = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(1.5), 1), nt_v2(30, 11), nt_v2(-6, 0), 0);
+    nt_body_id small = add_body(w, NT_BODY_DYNAMIC, nt_shape_circle((nt_real)0.3), nt_v2(10, 9), nt_v2(6, 0), 0);
+    nt_body_id big = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)1.5, 1), nt_v2(30, 11), nt_v2(-6, 0), 0);
     int began[2] = {0, 0}, ended[2] = {0, 0};
     for (int k = 0; k < 240; k++) {
         assert_int_equal(nt_world_step(w, DT), NT_OK);
@@ -775,10 +775,10 @@ static void test_plank_thinner_than_skin(void **state)
 {
     (void)state;
     nt_world *w = make_world(4, 17, 24, nt_v2(0, 320), NT_FRICTION_N, false);
-    nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb(R(0.226178), R(0.000883508)), nt_v2(R(16.0941), R(0.001)),
-                             nt_v2(R(974.118), R(-917.647)), R(0.05));
+    nt_body_id id = add_body(w, NT_BODY_DYNAMIC, nt_shape_aabb((nt_real)0.226178, (nt_real)0.000883508), nt_v2((nt_real)16.0941, (nt_real)0.001),
+                             nt_v2((nt_real)974.118, (nt_real)-917.647), (nt_real)0.05);
     for (int k = 0; k < 40; k++) {
-        assert_int_equal(nt_world_step(w, R(1.0 / 240)), NT_OK);
+        assert_int_equal(nt_world_step(w, (nt_real)(1.0 / 240)), NT_OK);
         nt_vec2 p = nt_body_get_position(w, id);
         assert_true(p.y >= 0 && p.x >= 0 && p.x <= 96);
         assert_true((double)nt_map_overlap_depth(nt_world_get_map(w), p, nt_body_get_shape(w, id)) <= 0.000883508);
