@@ -10,6 +10,9 @@
 #include <string.h>
 #include "text.h"
 
+/* A level text starts "ntile-level VERSION" (parser and writer). */
+#define LEVEL_MAGIC "ntile-level"
+
 /* ---------------------------------------------------------------- tile codes */
 
 char nt_level_tile_char(int tile)
@@ -1199,14 +1202,12 @@ static nt_status parse_lines(parser *P)
 {
     nt__text *t = &P->t;
     char q[NT__QUOTE_MAX];
-    nt_status s = nt__read_header(t, "ntile-level", NT_LEVEL_VERSION);
+    nt_status s = nt__read_header(t, LEVEL_MAGIC, NT_LEVEL_VERSION);
     if (s != NT_OK) return s;
     for (;;) {
-        int r = nt__text_next_line(t);
+        int r = nt__text_next_fields(t);
         if (r < 0) return NT_ERR_PARSE;
         if (r == 0) break;
-        if (!nt__text_split(t)) return NT_ERR_PARSE;
-        if (t->nf == 0) continue;
         const nt__field *w = &t->f[0];
         int key = setting_key(w);
         if (key >= 0 || nt__field_is(w, "material")) {
@@ -1394,7 +1395,7 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
     nt__sink o;
     nt__sink_init(&o, buf, cap);
     if (!lv) return nt__sink_finish(&o);
-    nt__sink_printf(&o, "ntile-level %d\n", NT_LEVEL_VERSION);
+    nt__sink_header(&o, LEVEL_MAGIC, NT_LEVEL_VERSION);
     if (lv->title[0]) nt__sink_printf(&o, "title \"%s\"\n", lv->title);
     if (lv->author[0]) nt__sink_printf(&o, "author \"%s\"\n", lv->author);
     nt__sink_printf(&o, "size %d %d\ncell ", lv->width, lv->height);

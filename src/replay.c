@@ -6,6 +6,9 @@
 #include "ntile/replay.h"
 #include "text.h"
 
+/* A replay text starts "ntile-replay VERSION" (parser and writer). */
+#define REPLAY_MAGIC "ntile-replay"
+
 static const char key_letters[] = "LRUDJA";
 
 nt_status nt_replay_create(int ticks, nt_replay **out)
@@ -240,14 +243,12 @@ static nt_status parse_rlines(rparser *P)
     nt__text *t = &P->t;
     nt_replay *rp = P->rp;
     char q[NT__QUOTE_MAX];
-    nt_status s = nt__read_header(t, "ntile-replay", NT_REPLAY_VERSION);
+    nt_status s = nt__read_header(t, REPLAY_MAGIC, NT_REPLAY_VERSION);
     if (s != NT_OK) return s;
     for (;;) {
-        int r = nt__text_next_line(t);
+        int r = nt__text_next_fields(t);
         if (r < 0) return NT_ERR_PARSE;
         if (r == 0) break;
-        if (!nt__text_split(t)) return NT_ERR_PARSE;
-        if (t->nf == 0) continue;
         const nt__field *w = &t->f[0];
         int key = -1;
         for (int k = 0; k < RK_COUNT; k++)
@@ -360,8 +361,8 @@ nt_status nt_replay_set_inputs(nt_replay *rp, const char *name, const char *text
     long long total = 0;
     nt_status s = NT_OK;
     int r;
-    while (s == NT_OK && (r = nt__text_next_line(t)) != 0) {
-        if (r < 0 || !nt__text_split(t)) {
+    while (s == NT_OK && (r = nt__text_next_fields(t)) != 0) {
+        if (r < 0) {
             s = NT_ERR_PARSE;
             break;
         }
@@ -442,7 +443,7 @@ size_t nt_replay_write(const nt_replay *rp, char *buf, size_t cap)
     nt__sink o;
     nt__sink_init(&o, buf, cap);
     if (!rp) return nt__sink_finish(&o);
-    nt__sink_printf(&o, "ntile-replay %d\n", NT_REPLAY_VERSION);
+    nt__sink_header(&o, REPLAY_MAGIC, NT_REPLAY_VERSION);
     if (rp->name[0]) {
         nt__sink_puts(&o, "name ");
         put_word(&o, rp->name);

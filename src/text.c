@@ -395,6 +395,18 @@ nt_status nt__read_header(nt__text *t, const char *magic, int version)
     return NT_OK;
 }
 
+int nt__text_next_fields(nt__text *t)
+{
+    for (;;) {
+        int r = nt__text_next_line(t);
+        if (r <= 0) return r;
+        if (!nt__text_split(t)) return -1;
+        if (t->nf > 0) return 1;
+    }
+}
+
+void nt__sink_header(nt__sink *s, const char *magic, int version) { nt__sink_printf(s, "%s %d\n", magic, version); }
+
 int nt__grow_array(void **arr, int count, int *cap, size_t size)
 {
     if (count < *cap) return 1;

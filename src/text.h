@@ -91,6 +91,10 @@ nt_status nt__field_string(nt__text *t, const nt__field *f, const char *what, ch
 /* Read the first line, which must be exactly "MAGIC VERSION". */
 nt_status nt__read_header(nt__text *t, const char *magic, int version);
 
+/* The next line that holds fields, split (blank and comment-only lines skipped):
+ * 1 read (t->nf > 0), 0 end of input, -1 error (message set). */
+int nt__text_next_fields(nt__text *t);
+
 /* Make room for one more item in *arr (count used, *cap allocated, doubling from 8).
  * 0 when out of memory (the array is unchanged). */
 int nt__grow_array(void **arr, int count, int *cap, size_t size);
@@ -122,6 +126,8 @@ void nt__sink_printf(nt__sink *s, const char *fmt, ...)
 void nt__sink_real(nt__sink *s, nt_real v);
 /* NUL-terminate and return the full length. */
 size_t nt__sink_finish(nt__sink *s);
+/* The first line of a canonical text, "MAGIC VERSION" (read back by nt__read_header). */
+void nt__sink_header(nt__sink *s, const char *magic, int version);
 
 /* Shortest round-trip decimal of v into buf (at least 32 bytes). */
 void nt__format_real(char *buf, nt_real v);
