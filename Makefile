@@ -4,7 +4,7 @@
 #                        ntile CLI, in build/
 #   make lib / make cli  the libraries alone / the ntile CLI alone
 #   make help            this list
-#   make test            build and run every test
+#   make test            build and run every test (and the link-time NT_DOUBLE check)
 #   make valgrind        the whole test suite under valgrind's memcheck
 #   make determinism     golden hashes: gcc and clang, -O0/-O2/-O3, float and double
 #                        (and gcc -m32 when gcc-multilib is installable)
@@ -19,7 +19,8 @@
 #   make run             the headless alternative: replay the default level
 #   make NT_DOUBLE=1 …   everything with double as the scalar type
 #   make CC=clang OPT=-O3 …  any compiler / optimisation level
-#   make install [PREFIX=/usr/local] [DESTDIR=]   headers, libraries, ntile.pc
+#   make install [PREFIX=/usr/local] [DESTDIR=]   headers, libraries, ntile.pc and
+#                        ntile-game.pc, the tools make built, the shipped levels
 #   make uninstall       remove what install put there (same PREFIX and DESTDIR)
 #   make check-install   install into a temporary DESTDIR, build and run the embedding
 #                        example through pkg-config, uninstall
@@ -201,11 +202,15 @@ $(OBJ)/tests/%.o: tests/%.c | deps-test
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -Isrc -Itools -Itools/ntile -MMD -MP -c $< -o $@
 
-test: deps-test $(TEST_BIN) $(BUILD)/ntile $(PLAY_TARGET)
+# make test: every test program, then the link-time NT_DOUBLE check (tools/check-precision.sh)
+# against the static and the shared library.
+test: deps-test $(TEST_BIN) $(BUILD)/ntile $(PLAY_TARGET) $(BUILD)/libntile.so
 	@pass=0; fail=0; for t in $(TEST_BIN); do \
 	  echo "== $$t"; if NTILE=$(BUILD)/ntile NTILE_PLAY=$(PLAY_TARGET) $$t; then pass=$$((pass+1)); else fail=$$((fail+1)); echo "FAILED: $$t"; fi; \
 	done; \
 	echo "test suites: $$pass passed, $$fail failed"; [ $$fail -eq 0 ]
+	@for l in $(BUILD)/libntile.a $(BUILD)/libntile.so; do \
+	  CC='$(CC)' SAN='$(SAN)' NT_DOUBLE='$(NT_DOUBLE)' LIB=$$l tools/check-precision.sh || exit 1; done
 
 BUILD_ASAN ?= build/asan
 asan:
@@ -369,19 +374,29 @@ DESTDIR ?=
 LIBDIR ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+BINDIR ?= $(PREFIX)/bin
+# The shipped levels: the tools look a level name up in ../share/ntile/levels from
+# their own directory (tools/common/levels.h), so BINDIR and LEVELSDIR stay side by side.
+LEVELSDIR := $(PREFIX)/share/ntile/levels
 HEADERS := $(wildcard include/ntile/*.h)
+LEVELS := $(wildcard levels/*.ntl)
+TOOLS_BUILT := $(BUILD)/ntile $(PLAY_TARGET)
 # The version users see is the one the headers announce.
 VERSION := $(shell awk '$$2 ~ /^NT_VERSION_(MAJOR|MINOR|PATCH)$$/ { v = v (v == "" ? "" : ".") $$3 } END { print v }' \
              include/ntile/base.h)
 # ntile.pc: paths under PREFIX are written relative to ${prefix}, so that pkg-config's
 # sysroot and prefix redefinition work; a library built with NT_DOUBLE=1 needs its
-# users to define NT_DOUBLE too.
+# users to define NT_DOUBLE too. ntile-game.pc requires ntile.pc; the game library is
+# static only, so its own libm is in Libs.
 PC_LIBDIR = $(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))
 PC_INCLUDEDIR = $(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))
 PC_CFLAGS = -I$${includedir}$(if $(filter-out 0,$(NT_DOUBLE)), -DNT_DOUBLE)
 
-install: lib
-	install -d '$(DESTDIR)$(INCLUDEDIR)/ntile' '$(DESTDIR)$(LIBDIR)' '$(DESTDIR)$(PKGCONFIGDIR)'
+install: all
+	install -d '$(DESTDIR)$(INCLUDEDIR)/ntile' '$(DESTDIR)$(LIBDIR)' '$(DESTDIR)$(PKGCONFIGDIR)' '$(DESTDIR)$(BINDIR)' \
+	  '$(DESTDIR)$(LEVELSDIR)'
+	install -m 755 $(TOOLS_BUILT) '$(DESTDIR)$(BINDIR)/'
+	install -m 644 $(LEVELS) '$(DESTDIR)$(LEVELSDIR)/'
 	install -m 644 $(HEADERS) '$(DESTDIR)$(INCLUDEDIR)/ntile/'
 	install -m 644 $(BUILD)/libntile.a '$(DESTDIR)$(LIBDIR)/libntile.a'
 	install -m 644 $(GAME_LIB) '$(DESTDIR)$(LIBDIR)/libntile-game.a'
@@ -393,17 +408,25 @@ install: lib
 	  'Description: Deterministic 2D collision engine in the style of N: tile map, exact projections, world of boxes and circles' \
 	  'Version: $(VERSION)' 'Cflags: $(PC_CFLAGS)' 'Libs: -L$${libdir} -lntile' 'Libs.private: $(LIBS)' \
 	  > '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
-	chmod 644 '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(PC_LIBDIR)' 'includedir=$(PC_INCLUDEDIR)' '' \
+	  'Name: ntile-game' \
+	  'Description: ntile game layer: player controller, level objects, spawners, replay runner' \
+	  'Version: $(VERSION)' 'Requires: ntile = $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -lntile-game $(LIBS)' \
+	  > '$(DESTDIR)$(PKGCONFIGDIR)/ntile-game.pc'
+	chmod 644 '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc' '$(DESTDIR)$(PKGCONFIGDIR)/ntile-game.pc'
 
-# Removes the files install writes and the include/ntile directory when it is empty;
-# other directories stay (they may hold other packages' files).
+# Removes the files install writes, and the include/ntile and share/ntile directories
+# when they are empty; other directories stay (they may hold other packages' files).
 uninstall:
 	rm -f $(foreach h,$(notdir $(HEADERS)),'$(DESTDIR)$(INCLUDEDIR)/ntile/$(h)')
 	-rmdir '$(DESTDIR)$(INCLUDEDIR)/ntile' 2>/dev/null || true
 	rm -f $(foreach f,libntile.a libntile-game.a libntile.so libntile.so.$(SOVERSION) libntile.so.$(SOFULL),'$(DESTDIR)$(LIBDIR)/$(f)')
-	rm -f '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc'
+	rm -f '$(DESTDIR)$(PKGCONFIGDIR)/ntile.pc' '$(DESTDIR)$(PKGCONFIGDIR)/ntile-game.pc'
+	rm -f '$(DESTDIR)$(BINDIR)/ntile' '$(DESTDIR)$(BINDIR)/ntile-play'
+	rm -f $(foreach l,$(notdir $(LEVELS)),'$(DESTDIR)$(LEVELSDIR)/$(l)')
+	-rmdir '$(DESTDIR)$(LEVELSDIR)' '$(DESTDIR)$(PREFIX)/share/ntile' 2>/dev/null || true
 
-check-install: lib deps-pkgconfig
+check-install: all deps-pkgconfig
 	@MAKE='$(MAKE)' CC='$(CC)' VERSION='$(VERSION)' tools/check-install.sh
 
 check-headers: $(BUILD)/libntile.a $(GAME_LIB) deps-cxx

@@ -25,6 +25,8 @@ const char *nt_status_string(nt_status status)
 }
 
 int nt_real_size(void) { return (int)sizeof(nt_real); }
+/* nt_real_float_library or nt_real_double_library: what base.h makes every user refer to. */
+const int NT_REAL_LIBRARY = (int)sizeof(nt_real);
 
 static void *default_alloc(size_t size, void *user) { (void)user; return malloc(size); }
 static void default_free(void *ptr, void *user) { (void)user; free(ptr); }

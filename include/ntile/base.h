@@ -55,6 +55,22 @@ const char *nt_status_string(nt_status status);
 /// was compiled with the same NT_DOUBLE setting as the library it links.
 int nt_real_size(void);
 
+/// The same check at link time (as Box2D renames a symbol per precision): the library
+/// defines nt_real_float_library or nt_real_double_library, after the NT_DOUBLE it was
+/// built with, and every file that includes this header refers to the one of its own
+/// setting (GCC and Clang), so a program compiled with the other setting fails to link:
+/// "undefined reference to `nt_real_double_library'" means the program was compiled
+/// with -DNT_DOUBLE and the library without it (build it with make NT_DOUBLE=1).
+#ifdef NT_DOUBLE
+#define NT_REAL_LIBRARY nt_real_double_library
+#else
+#define NT_REAL_LIBRARY nt_real_float_library
+#endif
+extern const int NT_REAL_LIBRARY;
+#if defined(__GNUC__)
+static const int *const nt__real_library_check __attribute__((used)) = &NT_REAL_LIBRARY;
+#endif
+
 /// Allocation hook: returns size bytes or NULL. `user` is the pointer given to nt_set_allocator.
 typedef void *nt_alloc_fn(size_t size, void *user);
 /// Release hook for memory returned by nt_alloc_fn. Never called with NULL.

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "state.h"
+#include "../common/levels.h"
 #include "../common/stream.h"
 
 const pg_gizmo_info pg_gizmos[PG_GZ_COUNT] = {
@@ -229,9 +230,11 @@ static void find_levels_dir(const pg_options *o, char *out, size_t cap)
         snprintf(out, cap, "%s", o->levels_dir);
         return;
     }
-    /* Next to the given level, in ./levels, or next to the program (build/../levels). */
-    const char *cands[3] = {NULL, "levels", NULL};
-    char lvdir[PG_PATH_MAX], exedir[PG_PATH_MAX];
+    /* Next to the given level, in ./levels, next to the program (build/../levels), or
+     * installed (bin/../share/ntile/levels). */
+    const char *cands[4] = {NULL, "levels", NULL, NULL};
+    char lvdir[PG_PATH_MAX], exedir[PG_PATH_MAX], shared[PG_PATH_MAX];
+    if (levels_installed_dir(shared, sizeof shared)) cands[3] = shared;
     if (o->level_path) {
         dir_name(o->level_path, lvdir, sizeof lvdir);
         cands[0] = lvdir;
@@ -244,7 +247,7 @@ static void find_levels_dir(const pg_options *o, char *out, size_t cap)
         snprintf(exedir + l, sizeof exedir - l, "/../levels");
         cands[2] = exedir;
     }
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 4; i++) {
         if (!cands[i]) continue;
         if (join(probe, sizeof probe, cands[i], "/ninja.ntl", "") && file_exists(probe)) {
             snprintf(out, cap, "%s", cands[i]);
@@ -1186,12 +1189,14 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
         p->replay_on = true;
     }
     pg_options o2 = *opt;
+    char named[PG_PATH_MAX];
     if (opt->replay_path) o2.level_path = first;
+    else if (opt->level_path) o2.level_path = levels_find(opt->level_path, named, sizeof named); /* or an installed level */
     char lvdir[PG_PATH_MAX];
     find_levels_dir(&o2, lvdir, sizeof lvdir);
     if (!opt->replay_path) {
         if (opt->level_path) {
-            if (!join(first, sizeof first, opt->level_path, "", "")) {
+            if (!join(first, sizeof first, o2.level_path, "", "")) {
                 snprintf(why, cap, "the level path is too long");
                 pg_destroy(p);
                 return NULL;

@@ -19,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
+#include "../common/levels.h"
 #include "../common/stream.h"
 #include "ntile/game.h"
 
@@ -350,9 +351,9 @@ static void print_state(const nt_game *g, const char *prefix)
 static int run_level(const char *level_path, long long ticks, const char *input, int has_seed, unsigned long long seed,
                      nt_real dt, int model, long long every)
 {
-    char why[600];
+    char why[600], named[4096];
     nt_level *lv = NULL;
-    nt_status ls = load_level(level_path, &lv, why, sizeof why);
+    nt_status ls = load_level(levels_find(level_path, named, sizeof named), &lv, why, sizeof why); /* or an installed level */
     if (ls != NT_OK) {
         fprintf(stderr, "ntile run: %s\n", why);
         return ls == NT_ERR_PARSE ? CLI_INPUT_ERRORS : CLI_USAGE; /* a bad level, or no file */
