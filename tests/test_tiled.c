@@ -1256,6 +1256,13 @@ static void test_malformed_files(void **state)
     snprintf(want, sizeof want, "%s:3:2: tileset \"b\": attribute \"id\" must be an integer, not \"zero\"", scratch_path("ts/broken.tsx"));
     assert_int_equal(import_file("ext.tmx", &lv, &e, NULL), NT_ERR_PARSE);
     assert_string_equal(e.message, want);
+    /* An external .tsx whose document is not a tileset. */
+    scratch_write_text("ts/notts.tsx", "<?xml version=\"1.0\"?>\n<map width=\"1\"/>\n");
+    scratch_write_text("ext2.tmx", "<map width=\"1\" height=\"1\" tilewidth=\"8\" tileheight=\"8\">\n <tileset firstgid=\"1\" source=\"ts/notts.tsx\"/>\n</map>\n");
+    snprintf(want, sizeof want, "%s:2:1: tileset: not a Tiled tileset (the document element is <map>, expected <tileset>)",
+             scratch_path("ts/notts.tsx"));
+    assert_int_equal(import_file("ext2.tmx", &lv, &e, NULL), NT_ERR_PARSE);
+    assert_string_equal(e.message, want);
     scratch_write_text("ext.tmj", "{\"width\":1, \"height\":1, \"tilewidth\":8, \"tileheight\":8, \"tilesets\":[{\"firstgid\":1, \"source\":\"ts/broken.tsj\"}]}");
     assert_int_equal(import_file("ext.tmj", &lv, &e, NULL), NT_ERR_PARSE);
     snprintf(want, sizeof want, "%s:3:", scratch_path("ts/broken.tsj"));

@@ -251,20 +251,31 @@ static nt_status read_tiles(xb *b, const xnode *n, tl_tileset *ts)
     return NT_OK;
 }
 
+/* Parse a document whose element must be <kind> (tileset or map); *root = it. */
+static nt_status open_document(xb *b, tl_ctx *c, const char *file, const char *text, size_t len, const char *kind,
+                               const xnode **root)
+{
+    memset(b, 0, sizeof *b);
+    b->c = c;
+    b->file = file;
+    nt_status s = build(b, text, len);
+    if (s != NT_OK) return s;
+    const xnode *r = b->root.first;
+    if (!r || !is(r, kind)) {
+        tl_loc at = r ? r->loc : (tl_loc){file, 0, 0};
+        return tl_fail(c, at, "%s: not a Tiled %s (the document element is <%s>, expected <%s>)", kind, kind,
+                       r ? r->name : "", kind);
+    }
+    *root = r;
+    return NT_OK;
+}
+
 nt_status tl_xml_tileset(tl_ctx *c, const char *file, const char *text, size_t len, tl_tileset *ts)
 {
     xb b;
-    memset(&b, 0, sizeof b);
-    b.c = c;
-    b.file = file;
-    nt_status s = build(&b, text, len);
+    const xnode *r;
+    nt_status s = open_document(&b, c, file, text, len, "tileset", &r);
     if (s != NT_OK) return s;
-    const xnode *r = b.root.first;
-    if (!r || !is(r, "tileset")) {
-        tl_loc at = r ? r->loc : (tl_loc){file, 0, 0};
-        return tl_fail(c, at, "tileset: not a Tiled tileset (the document element is <%s>, expected <tileset>)",
-                       r ? r->name : "");
-    }
     return read_tiles(&b, r, ts);
 }
 
@@ -421,16 +432,9 @@ static nt_status read_layers(xb *b, const xnode *parent, double offx, double off
 nt_status tl_xml_map(tl_ctx *c, const char *file, const char *text, size_t len, tl_map *m)
 {
     xb b;
-    memset(&b, 0, sizeof b);
-    b.c = c;
-    b.file = file;
-    nt_status s = build(&b, text, len);
+    const xnode *r;
+    nt_status s = open_document(&b, c, file, text, len, "map", &r);
     if (s != NT_OK) return s;
-    const xnode *r = b.root.first;
-    if (!r || !is(r, "map")) {
-        tl_loc at = r ? r->loc : (tl_loc){file, 0, 0};
-        return tl_fail(c, at, "map: not a Tiled map (the document element is <%s>, expected <map>)", r ? r->name : "");
-    }
     m->loc = r->loc;
     m->orientation = str_or(attr(r, "orientation"), "orthogonal");
     long long zero = 0, inf;
