@@ -500,7 +500,6 @@ typedef struct parser {
     int key_line[K_COUNT];
     int material_line[NT_MAX_MATERIALS];
     int material_col[NT_MAX_MATERIALS], body_material_col;
-    int body_cap, region_cap, path_cap, spawner_cap;
     long long instances;
     name_slot *names;
     size_t name_cap, name_count;
@@ -876,9 +875,7 @@ static nt_status parse_region(parser *P)
     } else if (r.kind == NT_REGION_SCORE) {
         return nt__fail_col(t, nt__text_eol_col(t), "a score region needs 'value N'");
     }
-    if (!nt__grow_array((void **)&lv->regions, lv->region_count, &P->region_cap, sizeof r)) return NT_ERR_OUT_OF_MEMORY;
-    lv->regions[lv->region_count++] = r;
-    return NT_OK;
+    return append((void **)&lv->regions, &lv->region_count, &r, sizeof r);
 }
 
 static nt_status parse_path(parser *P)
@@ -934,9 +931,7 @@ static nt_status parse_path(parser *P)
             if ((s = vec_at(P, first + 2 * k, "point x", "point y", &p.points[k])) != NT_OK) return s;
         p.point_count = nc / 2;
     }
-    if (!nt__grow_array((void **)&lv->paths, lv->path_count, &P->path_cap, sizeof p)) return NT_ERR_OUT_OF_MEMORY;
-    lv->paths[lv->path_count++] = p;
-    return NT_OK;
+    return append((void **)&lv->paths, &lv->path_count, &p, sizeof p);
 }
 
 /* A body name that must already exist; -1 after setting the error. */
@@ -1107,9 +1102,7 @@ static nt_status parse_body(parser *P)
     if (P->instances + add > NT_LEVEL_MAX_BODIES)
         return nt__fail_col(t, t->f[1].col, "too many bodies: more than %d in the level", NT_LEVEL_MAX_BODIES);
     P->instances += add;
-    if (!nt__grow_array((void **)&lv->bodies, lv->body_count, &P->body_cap, sizeof b)) return NT_ERR_OUT_OF_MEMORY;
-    lv->bodies[lv->body_count++] = b;
-    return NT_OK;
+    return append((void **)&lv->bodies, &lv->body_count, &b, sizeof b);
 }
 
 static nt_status parse_spawner(parser *P)
@@ -1186,9 +1179,7 @@ static nt_status parse_spawner(parser *P)
     if (!seen[3]) return nt__fail_col(t, nt__text_eol_col(t), "a spawner needs 'limit K'");
     if (seen[2] && !seen[1]) return nt__fail_col(t, seen[2], "'start' needs 'every N'");
     if (sp.trigger == NT_SPAWN_EVERY && !seen[2]) sp.start = 1;
-    if (!nt__grow_array((void **)&lv->spawners, lv->spawner_count, &P->spawner_cap, sizeof sp)) return NT_ERR_OUT_OF_MEMORY;
-    lv->spawners[lv->spawner_count++] = sp;
-    return NT_OK;
+    return append((void **)&lv->spawners, &lv->spawner_count, &sp, sizeof sp);
 }
 
 static int setting_key(const nt__field *f)
