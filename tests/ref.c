@@ -130,45 +130,23 @@ static void build_tile(int id, rtile *t)
         t->arc.qy = miry ? -qy : qy;
         return;
     }
+    /* The `pn` shapes of the sloped families, by first id (notes' table). */
+    static const struct {
+        int base, n;
+        double x[4], y[4];
+    } shapes[] = {
+        {2, 3, {0, 0, 1}, {0, 1, 1}},               /* 45DEG: (0,0) (0,1) (1,1) */
+        {14, 3, {0, 0, 1}, {0.5, 1, 1}},            /* 22DEG S: (0,0.5) (0,1) (1,1) */
+        {18, 4, {0, 1, 1, 0}, {0, 0.5, 1, 1}},      /* 22DEG B: (0,0) (1,0.5) (1,1) (0,1) */
+        {22, 3, {0, 0, 0.5}, {0, 1, 1}},            /* 67DEG S: (0,0) (0,1) (0.5,1) */
+        {26, 4, {0, 0.5, 1, 0}, {0, 0, 1, 1}},      /* 67DEG B: (0,0) (0.5,0) (1,1) (0,1) */
+    };
+    int f = 0;
+    while (f < 4 && shapes[f].base != base) f++; /* 26 when no other */
     double xs[4], ys[4];
-    int n;
-    switch (base) {
-    case 2: { /* 45DEG: (0,0) (0,1) (1,1) */
-        const double a[3] = {0, 0, 1}, b[3] = {0, 1, 1};
-        n = 3;
-        memcpy(xs, a, sizeof a);
-        memcpy(ys, b, sizeof b);
-        break;
-    }
-    case 14: { /* 22DEG S: (0,0.5) (0,1) (1,1) */
-        const double a[3] = {0, 0, 1}, b[3] = {0.5, 1, 1};
-        n = 3;
-        memcpy(xs, a, sizeof a);
-        memcpy(ys, b, sizeof b);
-        break;
-    }
-    case 18: { /* 22DEG B: (0,0) (1,0.5) (1,1) (0,1) */
-        const double a[4] = {0, 1, 1, 0}, b[4] = {0, 0.5, 1, 1};
-        n = 4;
-        memcpy(xs, a, sizeof a);
-        memcpy(ys, b, sizeof b);
-        break;
-    }
-    case 22: { /* 67DEG S: (0,0) (0,1) (0.5,1) */
-        const double a[3] = {0, 0, 0.5}, b[3] = {0, 1, 1};
-        n = 3;
-        memcpy(xs, a, sizeof a);
-        memcpy(ys, b, sizeof b);
-        break;
-    }
-    default: { /* 26, 67DEG B: (0,0) (0.5,0) (1,1) (0,1) */
-        const double a[4] = {0, 0.5, 1, 0}, b[4] = {0, 0, 1, 1};
-        n = 4;
-        memcpy(xs, a, sizeof a);
-        memcpy(ys, b, sizeof b);
-        break;
-    }
-    }
+    int n = shapes[f].n;
+    memcpy(xs, shapes[f].x, sizeof xs);
+    memcpy(ys, shapes[f].y, sizeof ys);
     for (int i = 0; i < n; i++) {
         xs[i] = MX(xs[i]);
         ys[i] = MY(ys[i]);
