@@ -80,11 +80,8 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
         return NT_OK;
     }
     if (b->type == NT_BODY_STATIC || (b->flags & NT__BF_SENSOR)) return NT_ERR_INVALID_ARGUMENT;
-    if (w->char_count == w->char_cap) {
-        nt__character *p = (nt__character *)nt__grow(w->chars, w->char_count, &w->char_cap, w->char_count + 1, sizeof *p);
-        if (!p) return NT_ERR_OUT_OF_MEMORY;
-        w->chars = p;
-    }
+    if (!nt__reserve((void **)&w->chars, w->char_count, &w->char_cap, w->char_count + 1, sizeof *w->chars))
+        return NT_ERR_OUT_OF_MEMORY;
     nt__character *c = &w->chars[w->char_count];
     memset(c, 0, sizeof *c);
     c->body = i;

@@ -271,6 +271,19 @@ void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller 
 /* Array growth through the allocator hook: returns the (possibly new) array with room
  * for `need` elements and the first `used` kept, or NULL (old array untouched). */
 void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
+/* Room for `need` elements in *arr (the first `used` kept), growing it through nt__grow
+ * when *cap is less: 1, or 0 when out of memory (*arr untouched). The plain-code form of
+ * response.c's GROW macro, which returns from its caller:
+ *     if (!nt__reserve((void **)&w->con, w->con_count, &w->con_cap, need, sizeof *w->con))
+ *         return NT_ERR_OUT_OF_MEMORY; */
+static inline int nt__reserve(void **arr, int used, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return 1;
+    void *p = nt__grow(*arr, used, cap, need, elem);
+    if (!p) return 0;
+    *arr = p;
+    return 1;
+}
 nt_material nt__cell_material(const nt_world *w, int x, int y);
 uint32_t nt__cell_flags(const nt_world *w, int x, int y);
 /* The velocity body b enters this step's contact solve with (dt the step): awake

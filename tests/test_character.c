@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "failalloc.h"
 #include "ntile/ntile.h"
 
 #define R(x) ((nt_real)(x))
@@ -495,6 +496,41 @@ static void test_bad_input(void **state)
     nt_world_destroy(w);
 }
 
+/* Out of memory while the character array grows (the first character, and the one
+ * past its capacity): NT_ERR_OUT_OF_MEMORY, and the world as it was. */
+static void test_create_out_of_memory(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 12);
+    nt_body_id ids[40];
+    for (int i = 0; i < 40; i++) {
+        nt_body_def d = nt_default_body_def();
+        d.position = nt_v2((nt_real)(36 + 24 * i), 100);
+        assert_int_equal(nt_body_create(w, &d, &ids[i]), NT_OK);
+    }
+    nt_character_def cd = nt_default_character_def();
+    int made = 0, refused = 0;
+    for (int i = 0; i < 40; i++) {
+        uint64_t h = nt_world_hash(w);
+        failalloc_begin(0);
+        nt_status s = nt_character_create(w, ids[i], &cd);
+        assert_int_equal(failalloc_end(), 0);
+        if (s == NT_OK) {
+            made++;
+            continue;
+        }
+        assert_int_equal(s, NT_ERR_OUT_OF_MEMORY);
+        assert_false(nt_character_is_valid(w, ids[i]));
+        assert_true(nt_world_hash(w) == h);
+        refused++;
+        assert_int_equal(nt_character_create(w, ids[i], &cd), NT_OK); /* with memory: made */
+    }
+    assert_true(refused >= 2); /* the first, and at least one growth */
+    assert_int_equal(made + refused, 40);
+    for (int i = 0; i < 40; i++) assert_true(nt_character_is_valid(w, ids[i]));
+    nt_world_destroy(w);
+}
+
 /* Dynamic bodies: a crate under its feet holds the character up (it stands on it,
  * carried by it) and is not squeezed into the floor or shoved off; walking off its
  * edge leaves it where it was; a ball in the way on the floor is pushed ahead. */
@@ -637,6 +673,7 @@ int main(void)
         cmocka_unit_test(test_one_way_platform_body),
         cmocka_unit_test(test_pushed_masks_and_huge_velocity),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_create_out_of_memory),
         cmocka_unit_test(test_scripted_run_golden_hash),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
