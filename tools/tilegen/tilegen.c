@@ -8,8 +8,8 @@
  * the other orientations mirror it: x -> 1-x when signx = -1, y -> 1-y when signy = +1,
  * and a single mirror reverses the vertex order so that the winding is kept
  * (counter-clockwise on screen). Every number is computed in double and written as the
- * shortest decimal that reads back as the same double; the engine converts it to
- * nt_real at compile time, so float and double builds get the same tables as before. */
+ * shortest decimal that reads back as the same double; the compiler converts it to
+ * nt_real (a float build rounds each once, as (nt_real)x does). */
 #include "tilegen.h"
 #include <math.h>
 #include <stdio.h>
@@ -156,6 +156,37 @@ static void finish(tile *t)
     }
 }
 
+static void rect_tile(tile *t, int r)
+{
+    strcpy(t->name, rects[r].name);
+    t->cls = "NT_CLASS_POLYGON";
+    t->n = 4;
+    t->v[0] = (pt){rects[r].x0, rects[r].y0};
+    t->v[1] = (pt){rects[r].x0, rects[r].y1};
+    t->v[2] = (pt){rects[r].x1, rects[r].y1};
+    t->v[3] = (pt){rects[r].x1, rects[r].y0};
+    finish(t);
+}
+
+static void family_tile(tile *t, const family *fa, int o)
+{
+    snprintf(t->name, sizeof t->name, "%s%s%s", fa->base, orients[o].name, fa->suffix);
+    t->cls = fa->cls;
+    t->sx = orients[o].sx;
+    t->sy = orients[o].sy;
+    t->n = fa->n;
+    int mx = t->sx < 0, my = t->sy > 0;
+    for (int i = 0; i < fa->n; i++) {
+        pt p = fa->v[(mx != my) ? fa->n - 1 - i : i]; /* one mirror: reversed, to keep the winding */
+        t->v[i] = (pt){mx ? 1 - p.x : p.x, my ? 1 - p.y : p.y};
+    }
+    t->round = fa->round;
+    if (fa->round) t->arc = (pt){mx ? 1 - fa->arc.x : fa->arc.x, my ? 1 - fa->arc.y : fa->arc.y};
+    finish(t);
+}
+
+/* The tiles in id order: EMPTY, FULL, the sloped and round families (4 orientations
+ * each), the half tiles. */
 static int build(tile tiles[34])
 {
     int k = 0;
@@ -163,37 +194,10 @@ static int build(tile tiles[34])
     strcpy(tiles[k].name, "EMPTY");
     tiles[k].cls = "NT_CLASS_EMPTY";
     finish(&tiles[k++]);
-    for (size_t r = 0; r < sizeof rects / sizeof rects[0]; r++) {
-        if (r == 1) { /* the sloped families come between FULL and the half tiles */
-            for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
-                for (int o = 0; o < 4; o++) {
-                    const family *fa = &families[f];
-                    tile *t = &tiles[k++];
-                    snprintf(t->name, sizeof t->name, "%s%s%s", fa->base, orients[o].name, fa->suffix);
-                    t->cls = fa->cls;
-                    t->sx = orients[o].sx;
-                    t->sy = orients[o].sy;
-                    t->n = fa->n;
-                    int mx = t->sx < 0, my = t->sy > 0;
-                    for (int i = 0; i < fa->n; i++) {
-                        pt p = fa->v[(mx != my) ? fa->n - 1 - i : i];
-                        t->v[i] = (pt){mx ? 1 - p.x : p.x, my ? 1 - p.y : p.y};
-                    }
-                    t->round = fa->round;
-                    if (fa->round) t->arc = (pt){mx ? 1 - fa->arc.x : fa->arc.x, my ? 1 - fa->arc.y : fa->arc.y};
-                    finish(t);
-                }
-        }
-        tile *t = &tiles[k++];
-        strcpy(t->name, rects[r].name);
-        t->cls = "NT_CLASS_POLYGON";
-        t->n = 4;
-        t->v[0] = (pt){rects[r].x0, rects[r].y0};
-        t->v[1] = (pt){rects[r].x0, rects[r].y1};
-        t->v[2] = (pt){rects[r].x1, rects[r].y1};
-        t->v[3] = (pt){rects[r].x1, rects[r].y0};
-        finish(t);
-    }
+    rect_tile(&tiles[k++], 0);
+    for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
+        for (int o = 0; o < 4; o++) family_tile(&tiles[k++], &families[f], o);
+    for (size_t r = 1; r < sizeof rects / sizeof rects[0]; r++) rect_tile(&tiles[k++], (int)r);
     return k;
 }
 
@@ -295,17 +299,15 @@ static void put_polys(FILE *out, const tile *ts, int count)
         for (int r = 0; r <= 4; r++)
             for (int j = 0; j < t->ne; j++)
                 if (face_rank(&t->e[j]) == r) f[nf++] = &t->e[j];
-        const char *rows[4] = {"ux", "uy", "ud", "inv"};
         fprintf(out, "    /* %s */ {", t->name);
-        for (int row = 0; row < 4; row++) {
+        for (int row = 0; row < 4; row++) { /* ux, uy, ud, inv; an unused face: 0, 0, NT_REAL_MAX, 1 */
             fprintf(out, "%s{", row ? ",\n     " : "");
             for (int j = 0; j < 4; j++) {
-                const char *v;
-                if (j >= nf) v = row == 2 ? "NT_REAL_MAX" : row == 3 ? "1" : "0";
-                else if (!strcmp(rows[row], "ux")) v = num(f[j]->ux);
-                else if (!strcmp(rows[row], "uy")) v = num(f[j]->uy);
-                else if (!strcmp(rows[row], "ud")) v = num(f[j]->ud);
-                else v = num(f[j]->inv);
+                const char *v = row == 2 ? "NT_REAL_MAX" : row == 3 ? "1" : "0";
+                if (j < nf) {
+                    const double rv[4] = {f[j]->ux, f[j]->uy, f[j]->ud, f[j]->inv};
+                    v = num(rv[row]);
+                }
                 fprintf(out, "%s%s", j ? ", " : "", v);
             }
             fprintf(out, "}");
