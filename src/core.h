@@ -147,6 +147,10 @@ struct nt_map {
      * an object centred in it (at most half a cell) touches nothing. Small enough to
      * stay in L1 for big maps: the test every body in the air makes each step. */
     uint64_t *open3;
+    /* Per cell, which of the 3 x 3 cells around it (bit 3 (dy + 1) + dx + 1) are not
+     * EMPTY cells of the map: a body near tiles finds from it whether the cells its
+     * box covers are all EMPTY without reading them. */
+    uint16_t *near9;
     /* Per block of NT__BLOCK x NT__BLOCK cells (bw x bh blocks): how many of its cells
      * are EMPTY, and how many are not FULL. The escape searches skip what holds
      * nothing they look for, so their work is bounded in solid masses. */
@@ -181,6 +185,11 @@ static inline int nt__map_open3(const nt_map *map, int x, int y)
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
 /* nt_map_overlap_depth(map, pos, shape) > limit, for limit >= 0 (map.c). */
 int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_real limit); /* shape by pointer: no struct in registers */
+/* An object of at most half a cell gliding along flat surfaces it touched last step:
+ * true when every tile it overlaps at pos pushes it along n (within 0.999) by a depth
+ * in [lo, hi] (world units), *out the deepest such contact (map.c). */
+bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_vec2 n, nt_real lo, nt_real hi,
+                    nt_tile_contact *out);
 
 static inline int nt__map_tile(const nt_map *map, int x, int y)
 {

@@ -61,16 +61,17 @@ nt__cell nt__map_cell(const nt_map *map, int x, int y)
 static void refresh_open3(nt_map *map, int x, int y)
 {
     if (x < 0 || y < 0 || x >= map->w || y >= map->h) return;
-    int open = 1;
-    for (int j = y - 1; j <= y + 1 && open; j++)
-        for (int i = x - 1; i <= x + 1; i++)
-            if (i < 0 || j < 0 || i >= map->w || j >= map->h ||
-                map->cells[(size_t)j * (size_t)map->w + (size_t)i].tile != NT_TILE_EMPTY) {
-                open = 0;
-                break;
-            }
+    unsigned near = 0;
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++) {
+            int cx = x + i, cy = y + j;
+            if (cx < 0 || cy < 0 || cx >= map->w || cy >= map->h ||
+                map->cells[(size_t)cy * (size_t)map->w + (size_t)cx].tile != NT_TILE_EMPTY)
+                near |= 1u << (3 * (j + 1) + i + 1);
+        }
     size_t k = (size_t)y * (size_t)map->w + (size_t)x;
-    if (open) map->open3[k >> 6] |= (uint64_t)1 << (k & 63);
+    map->near9[k] = (uint16_t)near;
+    if (!near) map->open3[k >> 6] |= (uint64_t)1 << (k & 63);
     else map->open3[k >> 6] &= ~((uint64_t)1 << (k & 63));
 }
 
@@ -135,13 +136,15 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     size_t n = (size_t)def->width * (size_t)def->height;
     m->cells = (nt__cell *)nt__alloc(n * sizeof *m->cells);
     m->open3 = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *m->open3);
+    m->near9 = (uint16_t *)nt__alloc(n * sizeof *m->near9);
     m->bw = (def->width + NT__BLOCK - 1) / NT__BLOCK;
     m->bh = (def->height + NT__BLOCK - 1) / NT__BLOCK;
     m->blk_empty = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
     m->blk_open = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
-    if (!m->cells || !m->open3 || !m->blk_empty || !m->blk_open) {
+    if (!m->cells || !m->open3 || !m->near9 || !m->blk_empty || !m->blk_open) {
         nt__free(m->cells);
         nt__free(m->open3);
+        nt__free(m->near9);
         nt__free(m->blk_empty);
         nt__free(m->blk_open);
         nt__free(m);
@@ -167,6 +170,7 @@ void nt_map_destroy(nt_map *map)
     if (!map) return;
     nt__free(map->cells);
     nt__free(map->open3);
+    nt__free(map->near9);
     nt__free(map->blk_empty);
     nt__free(map->blk_open);
     nt__free(map);
@@ -1434,6 +1438,52 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
  * tile's bounds along either axis: the routines list those pushes as candidates and
  * take the shortest (POLYGON tiles with these very sums; the round ones in a mirrored
  * frame, equal to within a few units in the last place of 1, hence the margin). */
+/* The glide test (core.h). Only flat (polygon) tiles: the normal of a curve turns as
+ * the object moves along it. Pushing along n by the deepest depth frees the object from
+ * every one of those convex tiles, so no way out of their union is needed: the object
+ * stays where it is, within the skin, which is what the full resolution followed by
+ * the world's skin rule gives up to the width of [lo, hi]. Anything else (a curve, a
+ * tile that pushes another way or deeper, a masked overlap, nothing overlapped) gives
+ * false and the caller resolves. */
+bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_vec2 n, nt_real lo, nt_real hi,
+                    nt_tile_contact *out)
+{
+    const nt_shape shape = *shape_p;
+    nt_real ic = map->inv_cell;
+    nt_vec2 p;
+    const mview view = local_view(map, pos, &p), *vm = &view;
+    nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    if (!(h.x <= R(0.5) && h.y <= R(0.5)) || !nt__finite(p.x) || !nt__finite(p.y)) return false;
+    lo *= ic;
+    hi *= ic;
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    const int ox = vm->ox, oy = vm->oy;
+    int inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->w && y1 + oy < map->h;
+    nt_real deepest = -1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt__cell cell = inside ? map->cells[(size_t)(y + oy) * (size_t)map->w + (size_t)(x + ox)] : vcell(vm, x, y);
+            int t = cell.tile;
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, cell.seams, &m);
+            if (r == NT__SEPARATE) continue;
+            if (r != NT__PUSH || nt__tiles[t].cls != NT_CLASS_POLYGON || !(nt__dot(m.normal, n) > R(0.999)) ||
+                !(m.depth >= lo && m.depth <= hi))
+                return false;
+            if (m.depth > deepest) {
+                deepest = m.depth;
+                out->normal = m.normal;
+                out->cell_x = x + ox;
+                out->cell_y = y + oy;
+            }
+        }
+    if (!(deepest >= 0)) return false;
+    out->depth = deepest * map->cell;
+    return true;
+}
+
 int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_real limit)
 {
     const nt_shape shape = *shape_p;
