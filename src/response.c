@@ -13,7 +13,8 @@
  *  4. move      semi-implicit Euler with the tiles: per body, in sub-steps when it
  *               moves further than its smaller half-size; each sub-step is freed
  *               by nt_map_resolve and answered by the friction model.
- *  5. sleep     groups of touching bodies that rested long enough fall asleep.
+ *  5. sleep     groups of touching bodies that rested long enough fall asleep
+ *               (sleep.c).
  *
  * Contacts are left overlapping by a tiny skin (2.5e-4 cell plus rounding of the
  * position) so that a resting contact is found again next step without a gap
@@ -117,14 +118,18 @@ static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_
     for (int i = 0; i < n; i++) dst[i] = src[a[2 * i + 1]];
 }
 
-#define GROW(arr, count, cap, need)                                                                          \
-    do {                                                                                                     \
-        if ((need) > (cap)) {                                                                                \
-            void *p_ = nt__grow((arr), (count), &(cap), (need), sizeof *(arr));                             \
-            if (!p_) return NT_ERR_OUT_OF_MEMORY;                                                            \
-            (arr) = p_;                                                                                      \
-        }                                                                                                    \
-    } while (0)
+/* Room for `need` elements in the array whose pointer is at arr_p (`count` in use,
+ * *cap allocated): false when out of memory, the array then unchanged. */
+static bool reserve(void *arr_p, int count, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return true;
+    void *old;
+    memcpy(&old, arr_p, sizeof old);
+    void *p = nt__grow(old, count, cap, need, elem);
+    if (!p) return false;
+    memcpy(arr_p, &p, sizeof p);
+    return true;
+}
 
 static void end_event(nt_world *w, const nt__contact *c)
 {
@@ -226,8 +231,9 @@ static nt_status collide(nt_world *w, nt_real dt)
     /* Room for everything this step can produce (the merge keeps con and con_tmp
      * interchangeable, and unparking needs con_count + parked_live). */
     int need = nn + no + w->parked_live;
-    GROW(w->con, w->con_count, w->con_cap, need);
-    GROW(w->con_tmp, 0, w->con_tmp_cap, need);
+    bool ok = reserve(&w->con, w->con_count, &w->con_cap, need, sizeof *w->con);
+    ok = ok && reserve(&w->con_tmp, 0, &w->con_tmp_cap, need, sizeof *w->con_tmp);
+    if (!ok) return NT_ERR_OUT_OF_MEMORY;
     /* Parked slots for this step's parking. Emptied slots make room first once they
      * are a quarter of all (compacting costs every slot: not at every wake); else the
      * arrays grow by half again what they need, so that the wakes after a big group
@@ -239,16 +245,17 @@ static nt_status collide(nt_world *w, nt_real dt)
         pneed = w->parked_count + no;
     }
     if (pneed > w->parked_cap) pneed += pneed / 2;
-    GROW(w->parked, w->parked_count, w->parked_cap, pneed);
-    GROW(w->park_link, w->parked_count, w->park_link_cap, pneed);
-    GROW(w->park_pick, 0, w->park_pick_cap, pneed);
-    GROW(w->ev_begin, 0, w->cap_begin, nn);
-    GROW(w->ev_end, 0, w->cap_end, no);
-    GROW(w->ev_sbegin, 0, w->cap_sbegin, nn);
-    GROW(w->ev_send, 0, w->cap_send, no);
-    GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
-    GROW(w->sort_keys, 0, w->sort_cap, 4 * nn);
-    GROW(w->adj, 0, w->adj_cap, 2 * need);
+    ok = reserve(&w->parked, w->parked_count, &w->parked_cap, pneed, sizeof *w->parked);
+    ok = ok && reserve(&w->park_link, w->parked_count, &w->park_link_cap, pneed, sizeof *w->park_link);
+    ok = ok && reserve(&w->park_pick, 0, &w->park_pick_cap, pneed, sizeof *w->park_pick);
+    ok = ok && reserve(&w->ev_begin, 0, &w->cap_begin, nn, sizeof *w->ev_begin);
+    ok = ok && reserve(&w->ev_end, 0, &w->cap_end, no, sizeof *w->ev_end);
+    ok = ok && reserve(&w->ev_sbegin, 0, &w->cap_sbegin, nn, sizeof *w->ev_sbegin);
+    ok = ok && reserve(&w->ev_send, 0, &w->cap_send, no, sizeof *w->ev_send);
+    ok = ok && reserve(&w->ev_hit, 0, &w->cap_hit, w->awake_count + nn, sizeof *w->ev_hit);
+    ok = ok && reserve(&w->sort_keys, 0, &w->sort_cap, 4 * nn, sizeof *w->sort_keys);
+    ok = ok && reserve(&w->adj, 0, &w->adj_cap, 2 * need, sizeof *w->adj);
+    if (!ok) return NT_ERR_OUT_OF_MEMORY;
 
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
@@ -1540,146 +1547,6 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
     w->counters.substep_count = moves;
 }
 
-/* ---------------------------------------------------------------- 5. sleep */
-
-static int32_t uf_find(int32_t *parent, int32_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-static void uf_union(int32_t *parent, int32_t a, int32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a == b) return;
-    /* The smaller index becomes the root: the result does not depend on the order. */
-    if (a < b) parent[b] = a;
-    else parent[a] = b;
-}
-
-/* Make an asleep body's whole group one union-find set (first time it is seen). */
-static void uf_add_sleeping(nt_world *w, int32_t *parent, int32_t *head, nt_real *tmin, int32_t i)
-{
-    nt__body *b = &w->bodies[i];
-    if (b->flags & NT__BF_MARK) return;
-    int32_t j = i;
-    do {
-        w->bodies[j].flags |= NT__BF_MARK;
-        parent[j] = j;
-        head[j] = -1;
-        tmin[j] = NT_REAL_MAX;
-        j = w->bodies[j].sleep_next;
-    } while (j >= 0 && j != i);
-    j = i;
-    do {
-        uf_union(parent, i, j);
-        j = w->bodies[j].sleep_next;
-    } while (j >= 0 && j != i);
-}
-
-static void update_sleep(nt_world *w, nt_real dt)
-{
-    if (!w->def.enable_sleep) return;
-    nt_real v2max = w->def.sleep_speed * w->def.sleep_speed;
-    int32_t *parent = w->scratch_a, *head = w->scratch_a + w->body_cap;
-    nt_real *tmin = w->scratch_r;
-    int candidates = 0;
-    /* With no body contacts every body is an island of its own: no union-find. */
-    const int islands = w->con_count > 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
-        else b->sleep_time += dt;
-        if (b->sleep_time >= w->def.sleep_time) candidates++;
-        if (islands) {
-            parent[i] = i;
-            head[i] = -1;
-            tmin[i] = NT_REAL_MAX;
-        }
-    }
-    if (candidates == 0) return;
-    if (!islands) {
-        /* Gather first (sleeping reorders the awake array), then sleep alone. */
-        int32_t *list = w->wake_list;
-        int n = 0;
-        for (int k = 0; k < w->awake_count; k++) {
-            int32_t i = w->awake[k];
-            const nt__body *b = &w->bodies[i];
-            if (b->type == NT_BODY_DYNAMIC && b->sleep_time >= w->def.sleep_time) list[n++] = i;
-        }
-        for (int q = 0; q < n; q++) {
-            nt__sleep_body(w, list[q]);
-            w->bodies[list[q]].sleep_next = list[q];
-        }
-        return;
-    }
-    /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-        int32_t ia = key_a(c->key), ib = key_b(c->key);
-        nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-        /* A moving kinematic body keeps what it touches awake. */
-        if (a->type == NT_BODY_KINEMATIC && (a->v.x != 0 || a->v.y != 0)) b->sleep_time = 0;
-        if (b->type == NT_BODY_KINEMATIC && (b->v.x != 0 || b->v.y != 0)) a->sleep_time = 0;
-        if (a->type != NT_BODY_DYNAMIC || b->type != NT_BODY_DYNAMIC) continue;
-        if (a->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ia);
-        if (b->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ib);
-        uf_union(parent, ia, ib);
-    }
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        const nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        int32_t r = uf_find(parent, i);
-        if (b->sleep_time < tmin[r]) tmin[r] = b->sleep_time;
-    }
-    /* Gather the sleepers first: sleeping reorders the awake array. */
-    int32_t *list = w->wake_list;
-    int n = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        if (w->bodies[i].type == NT_BODY_DYNAMIC && tmin[uf_find(parent, i)] >= w->def.sleep_time) list[n++] = i;
-    }
-    /* Sleeping groups reached through contacts join the new group. */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        for (int s = 0; s < 2; s++) {
-            int32_t i = s ? key_b(c->key) : key_a(c->key);
-            nt__body *b = &w->bodies[i];
-            if (!(b->flags & NT__BF_MARK)) continue;
-            int32_t r = uf_find(parent, i);
-            int sleeps = tmin[r] >= w->def.sleep_time;
-            /* Clear the marks of the whole group, adding it to the sleepers if they sleep. */
-            int32_t j = i;
-            do {
-                w->bodies[j].flags &= (uint8_t)~NT__BF_MARK;
-                if (sleeps) list[n++] = j;
-                j = w->bodies[j].sleep_next;
-            } while (j >= 0 && j != i);
-        }
-    }
-    for (int q = 0; q < n; q++) {
-        int32_t i = list[q];
-        int32_t r = uf_find(parent, i);
-        nt__body *b = &w->bodies[i];
-        if (b->awake_slot >= 0) nt__sleep_body(w, i);
-        if (head[r] < 0) {
-            head[r] = i;
-            b->sleep_next = i;
-        } else {
-            b->sleep_next = w->bodies[head[r]].sleep_next;
-            w->bodies[head[r]].sleep_next = i;
-        }
-    }
-}
-
 /* ---------------------------------------------------------------- the step */
 
 nt_status nt__step(nt_world *w, nt_real dt)
@@ -1713,7 +1580,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
      * a floor): the pairs around such bodies are corrected once more. */
     if (w->kicked_count) correct_after_move(w);
     if (w->profiling) t[5] = clock_ms();
-    update_sleep(w, dt);
+    nt__update_sleep(w, dt);
     if (w->profiling) {
         t[6] = clock_ms();
         t[1] = w->pairs_ms;
