@@ -141,3 +141,19 @@ nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax)
     nt_real l = nt__sqrt(x * x + y * y);
     return nt_v2(x / l * vmax, y / l * vmax);
 }
+
+void *nt__grow(void *old, int used, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return old;
+    long long want = (long long)*cap * 2;
+    if (want < need) want = need;
+    if (want < 16) want = 16;
+    if (want > 0x7fffffff) want = 0x7fffffff;
+    if (want < need || (unsigned long long)want > (unsigned long long)(SIZE_MAX / elem)) return NULL;
+    void *p = nt__alloc((size_t)want * elem);
+    if (!p) return NULL;
+    if (old && used > 0) memcpy(p, old, (size_t)used * elem);
+    nt__free(old);
+    *cap = (int)want;
+    return p;
+}

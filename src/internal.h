@@ -46,6 +46,24 @@ void nt__free(void *ptr);
  * character's move). */
 nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax);
 
+/* core.c: array growth through the allocator hook: returns the (possibly new) array
+ * with room for `need` elements and the first `used` kept, or NULL (old array
+ * untouched). */
+void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
+/* Room for `need` elements in *arr (the first `used` kept), growing it through nt__grow
+ * when *cap is less: 1, or 0 when out of memory (*arr untouched). The plain-code form of
+ * response.c's GROW macro, which returns from its caller:
+ *     if (!nt__reserve((void **)&w->con, w->con_count, &w->con_cap, need, sizeof *w->con))
+ *         return NT_ERR_OUT_OF_MEMORY; */
+static inline int nt__reserve(void **arr, int used, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return 1;
+    void *p = nt__grow(*arr, used, cap, need, elem);
+    if (!p) return 0;
+    *arr = p;
+    return 1;
+}
+
 /* Keeps a rarely taken path out of its caller (a smaller hot loop). */
 #if defined(__GNUC__)
 #define NT__NOINLINE __attribute__((noinline))
@@ -152,6 +170,10 @@ struct nt_map {
      * an object centred in it (at most half a cell) touches nothing. Small enough to
      * stay in L1 for big maps: the test every body in the air makes each step. */
     uint64_t *open3;
+    /* Per cell, which of the 3 x 3 cells around it (bit 3 (dy + 1) + dx + 1) are not
+     * EMPTY cells of the map: a body near tiles finds from it whether the cells its
+     * box covers are all EMPTY without reading them. */
+    uint16_t *near9;
     /* Per block of NT__BLOCK x NT__BLOCK cells (bw x bh blocks): how many of its cells
      * are EMPTY, and how many are not FULL. The escape searches skip what holds
      * nothing they look for, so their work is bounded in solid masses. */
@@ -186,6 +208,11 @@ static inline int nt__map_open3(const nt_map *map, int x, int y)
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
 /* nt_map_overlap_depth(map, pos, shape) > limit, for limit >= 0 (map.c). */
 int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_real limit); /* shape by pointer: no struct in registers */
+/* An object of at most half a cell gliding along flat surfaces it touched last step:
+ * true when every tile it overlaps at pos pushes it along n (within 0.999) by a depth
+ * in [lo, hi] (world units), *out the deepest such contact (map.c). */
+bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_vec2 n, nt_real lo, nt_real hi,
+                    nt_tile_contact *out);
 
 static inline int nt__map_tile(const nt_map *map, int x, int y)
 {

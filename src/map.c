@@ -61,16 +61,17 @@ nt__cell nt__map_cell(const nt_map *map, int x, int y)
 static void refresh_open3(nt_map *map, int x, int y)
 {
     if (x < 0 || y < 0 || x >= map->w || y >= map->h) return;
-    int open = 1;
-    for (int j = y - 1; j <= y + 1 && open; j++)
-        for (int i = x - 1; i <= x + 1; i++)
-            if (i < 0 || j < 0 || i >= map->w || j >= map->h ||
-                map->cells[(size_t)j * (size_t)map->w + (size_t)i].tile != NT_TILE_EMPTY) {
-                open = 0;
-                break;
-            }
+    unsigned near = 0;
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++) {
+            int cx = x + i, cy = y + j;
+            if (cx < 0 || cy < 0 || cx >= map->w || cy >= map->h ||
+                map->cells[(size_t)cy * (size_t)map->w + (size_t)cx].tile != NT_TILE_EMPTY)
+                near |= 1u << (3 * (j + 1) + i + 1);
+        }
     size_t k = (size_t)y * (size_t)map->w + (size_t)x;
-    if (open) map->open3[k >> 6] |= (uint64_t)1 << (k & 63);
+    map->near9[k] = (uint16_t)near;
+    if (!near) map->open3[k >> 6] |= (uint64_t)1 << (k & 63);
     else map->open3[k >> 6] &= ~((uint64_t)1 << (k & 63));
 }
 
@@ -135,13 +136,15 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     size_t n = (size_t)def->width * (size_t)def->height;
     m->cells = (nt__cell *)nt__alloc(n * sizeof *m->cells);
     m->open3 = (uint64_t *)nt__alloc(((n + 63) / 64) * sizeof *m->open3);
+    m->near9 = (uint16_t *)nt__alloc(n * sizeof *m->near9);
     m->bw = (def->width + NT__BLOCK - 1) / NT__BLOCK;
     m->bh = (def->height + NT__BLOCK - 1) / NT__BLOCK;
     m->blk_empty = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
     m->blk_open = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
-    if (!m->cells || !m->open3 || !m->blk_empty || !m->blk_open) {
+    if (!m->cells || !m->open3 || !m->near9 || !m->blk_empty || !m->blk_open) {
         nt__free(m->cells);
         nt__free(m->open3);
+        nt__free(m->near9);
         nt__free(m->blk_empty);
         nt__free(m->blk_open);
         nt__free(m);
@@ -167,6 +170,7 @@ void nt_map_destroy(nt_map *map)
     if (!map) return;
     nt__free(map->cells);
     nt__free(map->open3);
+    nt__free(map->near9);
     nt__free(map->blk_empty);
     nt__free(map->blk_open);
     nt__free(map);
@@ -285,8 +289,8 @@ static inline mview local_view(const nt_map *map, nt_vec2 pos, nt_vec2 *p)
     return v;
 }
 
-/* A large object being resolved (cell units), for the helpers of resolve_big that
- * test it at many places. */
+/* The object being resolved (cell units): the map as the resolution sees it, its
+ * shape and half-size, for the helpers that test it at many places. */
 typedef struct probe {
     const mview *map;
     nt_shape shape;
@@ -329,30 +333,42 @@ static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
     return worst;
 }
 
-/* Gather the masked per-tile candidates at p, whose cell range (x0, y0, x1, y1) the
- * caller found once in r4 (best_candidate uses it too). Returns the number of
- * overlapped tiles; *nc receives the number of candidates, *lb the deepest unmasked
- * single-tile depth (no way out of the union is shorter), or -1 when a masked tile
- * overlaps. */
-static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], unsigned use_masks, cand *cs,
-                  int *nc, int *all_convex, int *present, nt_real *lb)
+/* What gather finds at the object's place, for best_candidate: the cell range its
+ * interior can touch, the masked per-tile candidates, the number of overlapped tiles
+ * (`overlapped`), of non-EMPTY tiles in range (`present`), whether every overlapped
+ * tile is convex, and lb, the deepest unmasked single-tile depth (no way out of the
+ * union is shorter), or -1 when a masked tile overlaps. */
+typedef struct gathered {
+    int x0, y0, x1, y1;
+    cand cs[MAX_CANDS];
+    int nc, overlapped, present, all_convex;
+    nt_real lb;
+} gathered;
+
+/* Gather the per-tile candidates of the object at p (seams masked when use_masks);
+ * returns the number of overlapped tiles. */
+static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
 {
-    const int x0 = r4[0], y0 = r4[1], x1 = r4[2], y1 = r4[3];
+    const mview *map = o->map;
+    const nt_shape shape = o->shape;
+    const nt_vec2 h = o->h;
+    cell_range(p, h, &g->x0, &g->y0, &g->x1, &g->y1);
+    const int x0 = g->x0, y0 = g->y0, x1 = g->x1, y1 = g->y1;
     const int ox = map->ox, oy = map->oy;
     int overlapped = 0, inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->map->w && y1 + oy < map->map->h;
     const nt__cell *cells = map->map->cells;
     const size_t stride = (size_t)map->map->w;
-    *nc = 0;
-    *all_convex = 1;
-    *present = 0;
-    *lb = 0;
+    g->nc = 0;
+    g->all_convex = 1;
+    g->present = 0;
+    g->lb = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             /* Cells in the map are read directly; border cells are computed. */
             nt__cell cell = inside ? cells[(size_t)(y + oy) * stride + (size_t)(x + ox)] : vcell(map, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
-            (*present)++;
+            g->present++;
             nt_mtv m;
             unsigned mask = use_masks ? cell.seams : 0u;
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
@@ -360,11 +376,11 @@ static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const 
             overlapped++;
             /* A masked tile's own depth is not known here: the bound is then left to
              * depth_at, computed only if the certificate below fails. */
-            if (mask) *lb = -1;
-            else if (r == NT__PUSH && *lb >= 0 && m.depth > *lb) *lb = m.depth;
-            if (nt__tiles[t].cls == NT_CLASS_CONCAVE) *all_convex = 0;
-            if (r == NT__PUSH && *nc < MAX_CANDS) {
-                cand *c = &cs[(*nc)++];
+            if (mask) g->lb = -1;
+            else if (r == NT__PUSH && g->lb >= 0 && m.depth > g->lb) g->lb = m.depth;
+            if (nt__tiles[t].cls == NT_CLASS_CONCAVE) g->all_convex = 0;
+            if (r == NT__PUSH && g->nc < MAX_CANDS) {
+                cand *c = &g->cs[g->nc++];
                 c->nx = m.normal.x;
                 c->ny = m.normal.y;
                 c->depth = m.depth;
@@ -372,6 +388,7 @@ static int gather(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const 
                 c->cy = y;
             }
         }
+    g->overlapped = overlapped;
     return overlapped;
 }
 
@@ -468,9 +485,11 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
  * early-out scan (the same verdicts). The scalar parameters, not a probe: the small
  * path's caller is inlined into nt_map_resolve, where a struct cost 0.5 % of the
  * particles scene. */
-static int shortest_freeing(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const cand *cs, int nc, nt_real lb,
-                            int big, nt_resolution *out)
+static int shortest_freeing(const probe *o, nt_vec2 p, const cand *cs, int nc, nt_real lb, int big, nt_resolution *out)
 {
+    const mview *map = o->map;
+    const nt_shape shape = o->shape;
+    const nt_vec2 h = o->h;
     nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
     nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
     nt_real max_corner = big ? NT_REAL_MAX : R(1.5);
@@ -513,9 +532,14 @@ static int shortest_freeing(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2
 
 /* Best push from the candidates at p: shortest single or corner that frees the
  * object. Returns 1 and fills out (cell units) on success. */
-static int best_candidate(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const int r4[4], const cand *cs, int nc,
-                          int overlapped, int all_convex, int present, nt_real lb, nt_resolution *out, nt_real *lower)
+static int best_candidate(const probe *o, nt_vec2 p, const gathered *g, nt_resolution *out, nt_real *lower)
 {
+    const mview *map = o->map;
+    const nt_shape shape = o->shape;
+    const nt_vec2 h = o->h;
+    const cand *cs = g->cs;
+    const int nc = g->nc, overlapped = g->overlapped, all_convex = g->all_convex, present = g->present;
+    nt_real lb = g->lb;
     /* Fast certificate: every overlapped tile pushes the same way and is convex, so
      * the deepest push clears them all (a convex region stays cleared further along
      * an outward normal); it is the answer when no other tile overlaps the object
@@ -531,7 +555,7 @@ static int best_candidate(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h
         if (same) {
             nt_vec2 q = nt_v2(p.x + cs[deepest].nx * cs[deepest].depth, p.y + cs[deepest].ny * cs[deepest].depth);
             int c0, d0, c1, d1, clear = 1;
-            const int a0 = r4[0], b0 = r4[1], a1 = r4[2], b1 = r4[3];
+            const int a0 = g->x0, b0 = g->y0, a1 = g->x1, b1 = g->y1;
             cell_range(q, h, &c0, &d0, &c1, &d1);
             /* Every tile in range was overlapped and no new cell comes into range:
              * nothing else to test. */
@@ -580,7 +604,7 @@ static int best_candidate(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h
      * is_free, leaving it slightly inside, so it is not taken. */
     if (lb < 0) lb = depth_at(map, p, shape, h);
     *lower = lb;
-    return shortest_freeing(map, p, shape, h, cs, nc, lb, 0, out);
+    return shortest_freeing(o, p, cs, nc, lb, 0, out);
 }
 
 /* ---- exact enumeration ----
@@ -1268,7 +1292,7 @@ NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape
         if (g.overlapped == 0) return false;
         if (big_certificate(o, p, &g, res)) return true;
         nt_real lb = g.lb >= 0 ? g.lb : depth_at(map, p, shape, h);
-        int found = shortest_freeing(map, p, shape, h, g.cs, g.nc, lb, 1, res);
+        int found = shortest_freeing(o, p, g.cs, g.nc, lb, 1, res);
         /* Optimal when no longer than the deepest single-tile overlap; otherwise the
          * curves within the candidate's length are enumerated. Without a candidate,
          * the reach starts two cells past the object's size and doubles until the
@@ -1358,9 +1382,6 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         return true;
     }
 
-    cand cs[MAX_CANDS];
-    int nc, all_convex, present;
-    nt_real lb;
     if (p.x < (nt_real)VX0(vm) - 2 || p.y < (nt_real)VY0(vm) - 2 || p.x > (nt_real)VX1(vm) + 2 ||
         p.y > (nt_real)VY1(vm) + 2) {
         /* Far inside the border: come back into the map first. */
@@ -1376,13 +1397,12 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         if (out) *out = res;
         return true;
     }
-    int r4[4];
-    cell_range(p, h, &r4[0], &r4[1], &r4[2], &r4[3]);
-    int overlapped = gather(vm, p, shape, h, r4, 1u, cs, &nc, &all_convex, &present, &lb);
-    if (overlapped == 0) return false;
+    const probe obj = {vm, shape, h};
+    gathered g;
+    if (gather(&obj, p, 1u, &g) == 0) return false;
 
     nt_real lower = 0;
-    int found = best_candidate(vm, p, shape, h, r4, cs, nc, overlapped, all_convex, present, lb, &res, &lower);
+    int found = best_candidate(&obj, p, &g, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
     nt_real len = found ? nt__len(res.push) : R(0.8);
@@ -1434,6 +1454,52 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
  * tile's bounds along either axis: the routines list those pushes as candidates and
  * take the shortest (POLYGON tiles with these very sums; the round ones in a mirrored
  * frame, equal to within a few units in the last place of 1, hence the margin). */
+/* The glide test (core.h). Only flat (polygon) tiles: the normal of a curve turns as
+ * the object moves along it. Pushing along n by the deepest depth frees the object from
+ * every one of those convex tiles, so no way out of their union is needed: the object
+ * stays where it is, within the skin, which is what the full resolution followed by
+ * the world's skin rule gives up to the width of [lo, hi]. Anything else (a curve, a
+ * tile that pushes another way or deeper, a masked overlap, nothing overlapped) gives
+ * false and the caller resolves. */
+bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_vec2 n, nt_real lo, nt_real hi,
+                    nt_tile_contact *out)
+{
+    const nt_shape shape = *shape_p;
+    nt_real ic = map->inv_cell;
+    nt_vec2 p;
+    const mview view = local_view(map, pos, &p), *vm = &view;
+    nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    if (!(h.x <= R(0.5) && h.y <= R(0.5)) || !nt__finite(p.x) || !nt__finite(p.y)) return false;
+    lo *= ic;
+    hi *= ic;
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    const int ox = vm->ox, oy = vm->oy;
+    int inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->w && y1 + oy < map->h;
+    nt_real deepest = -1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            nt__cell cell = inside ? map->cells[(size_t)(y + oy) * (size_t)map->w + (size_t)(x + ox)] : vcell(vm, x, y);
+            int t = cell.tile;
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, cell.seams, &m);
+            if (r == NT__SEPARATE) continue;
+            if (r != NT__PUSH || nt__tiles[t].cls != NT_CLASS_POLYGON || !(nt__dot(m.normal, n) > R(0.999)) ||
+                !(m.depth >= lo && m.depth <= hi))
+                return false;
+            if (m.depth > deepest) {
+                deepest = m.depth;
+                out->normal = m.normal;
+                out->cell_x = x + ox;
+                out->cell_y = y + oy;
+            }
+        }
+    if (!(deepest >= 0)) return false;
+    out->depth = deepest * map->cell;
+    return true;
+}
+
 int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_real limit)
 {
     const nt_shape shape = *shape_p;

@@ -13,7 +13,8 @@
  *  4. move      semi-implicit Euler with the tiles: per body, in sub-steps when it
  *               moves further than its smaller half-size; each sub-step is freed
  *               by nt_map_resolve and answered by the friction model.
- *  5. sleep     groups of touching bodies that rested long enough fall asleep.
+ *  5. sleep     groups of touching bodies that rested long enough fall asleep
+ *               (sleep.c).
  *
  * Contacts are left overlapping by a tiny skin (2.5e-4 cell plus rounding of the
  * position) so that a resting contact is found again next step without a gap
@@ -117,14 +118,18 @@ static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_
     for (int i = 0; i < n; i++) dst[i] = src[a[2 * i + 1]];
 }
 
-#define GROW(arr, count, cap, need)                                                                          \
-    do {                                                                                                     \
-        if ((need) > (cap)) {                                                                                \
-            void *p_ = nt__grow((arr), (count), &(cap), (need), sizeof *(arr));                             \
-            if (!p_) return NT_ERR_OUT_OF_MEMORY;                                                            \
-            (arr) = p_;                                                                                      \
-        }                                                                                                    \
-    } while (0)
+/* Room for `need` elements in the array whose pointer is at arr_p (`count` in use,
+ * *cap allocated): false when out of memory, the array then unchanged. */
+static bool reserve(void *arr_p, int count, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return true;
+    void *old;
+    memcpy(&old, arr_p, sizeof old);
+    void *p = nt__grow(old, count, cap, need, elem);
+    if (!p) return false;
+    memcpy(arr_p, &p, sizeof p);
+    return true;
+}
 
 static void end_event(nt_world *w, const nt__contact *c)
 {
@@ -226,8 +231,9 @@ static nt_status collide(nt_world *w, nt_real dt)
     /* Room for everything this step can produce (the merge keeps con and con_tmp
      * interchangeable, and unparking needs con_count + parked_live). */
     int need = nn + no + w->parked_live;
-    GROW(w->con, w->con_count, w->con_cap, need);
-    GROW(w->con_tmp, 0, w->con_tmp_cap, need);
+    bool ok = reserve(&w->con, w->con_count, &w->con_cap, need, sizeof *w->con);
+    ok = ok && reserve(&w->con_tmp, 0, &w->con_tmp_cap, need, sizeof *w->con_tmp);
+    if (!ok) return NT_ERR_OUT_OF_MEMORY;
     /* Parked slots for this step's parking. Emptied slots make room first once they
      * are a quarter of all (compacting costs every slot: not at every wake); else the
      * arrays grow by half again what they need, so that the wakes after a big group
@@ -239,16 +245,17 @@ static nt_status collide(nt_world *w, nt_real dt)
         pneed = w->parked_count + no;
     }
     if (pneed > w->parked_cap) pneed += pneed / 2;
-    GROW(w->parked, w->parked_count, w->parked_cap, pneed);
-    GROW(w->park_link, w->parked_count, w->park_link_cap, pneed);
-    GROW(w->park_pick, 0, w->park_pick_cap, pneed);
-    GROW(w->ev_begin, 0, w->cap_begin, nn);
-    GROW(w->ev_end, 0, w->cap_end, no);
-    GROW(w->ev_sbegin, 0, w->cap_sbegin, nn);
-    GROW(w->ev_send, 0, w->cap_send, no);
-    GROW(w->ev_hit, 0, w->cap_hit, w->awake_count + nn);
-    GROW(w->sort_keys, 0, w->sort_cap, 4 * nn);
-    GROW(w->adj, 0, w->adj_cap, 2 * need);
+    ok = reserve(&w->parked, w->parked_count, &w->parked_cap, pneed, sizeof *w->parked);
+    ok = ok && reserve(&w->park_link, w->parked_count, &w->park_link_cap, pneed, sizeof *w->park_link);
+    ok = ok && reserve(&w->park_pick, 0, &w->park_pick_cap, pneed, sizeof *w->park_pick);
+    ok = ok && reserve(&w->ev_begin, 0, &w->cap_begin, nn, sizeof *w->ev_begin);
+    ok = ok && reserve(&w->ev_end, 0, &w->cap_end, no, sizeof *w->ev_end);
+    ok = ok && reserve(&w->ev_sbegin, 0, &w->cap_sbegin, nn, sizeof *w->ev_sbegin);
+    ok = ok && reserve(&w->ev_send, 0, &w->cap_send, no, sizeof *w->ev_send);
+    ok = ok && reserve(&w->ev_hit, 0, &w->cap_hit, w->awake_count + nn, sizeof *w->ev_hit);
+    ok = ok && reserve(&w->sort_keys, 0, &w->sort_cap, 4 * nn, sizeof *w->sort_keys);
+    ok = ok && reserve(&w->adj, 0, &w->adj_cap, 2 * need, sizeof *w->adj);
+    if (!ok) return NT_ERR_OUT_OF_MEMORY;
 
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
@@ -334,12 +341,27 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
     return worst;
 }
 
-/* True when every cell the box's range covers is an EMPTY cell of the map; (cx, cy) is
- * the cell of its centre. A body is at most half a cell, so each end of its range is
- * that cell or the one next to it: a comparison finds which, where a floor would cost
- * a conversion each. Out of line: most bodies in the air are answered by the 3 x 3
- * test before it. */
-static inline int cells_empty(const nt_map *m, int x0, int y0, int x1, int y1)
+/* True when every cell the box can touch is an EMPTY cell of the map: nothing to
+ * resolve (the common case for a body in the air, checked without a call). A body
+ * is at most half a cell, so it lies within the 3 x 3 cells around its centre's, and
+ * each end of its range is that cell or the one next to it: comparisons find which,
+ * and the cell's near9 mask says whether those cells are all EMPTY. */
+static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
+{
+    const nt_map *m = w->map;
+    nt_real ic = w->inv_cell;
+    int cx = nt__ifloor(p.x * ic), cy = nt__ifloor(p.y * ic);
+    if (!nt__map_in(m, cx, cy)) return 0; /* covers border cells */
+    unsigned near = m->near9[(size_t)cy * (size_t)m->w + (size_t)cx];
+    if (!near) return 1;
+    unsigned cols = 2u | ((p.x - h.x) * ic < (nt_real)cx ? 1u : 0u) | ((p.x + h.x) * ic >= (nt_real)(cx + 1) ? 4u : 0u);
+    unsigned rows = 2u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 4u : 0u);
+    unsigned covered = ((rows & 1u) ? cols : 0u) | ((rows & 2u) ? cols << 3 : 0u) | ((rows & 4u) ? cols << 6 : 0u);
+    return (near & covered) == 0;
+}
+
+/* True when every cell of the range is an EMPTY cell of the map. */
+static int cells_empty(const nt_map *m, int x0, int y0, int x1, int y1)
 {
     if (x0 < 0 || y0 < 0 || x1 >= m->w || y1 >= m->h) return 0;
     for (int y = y0; y <= y1; y++) {
@@ -348,25 +370,6 @@ static inline int cells_empty(const nt_map *m, int x0, int y0, int x1, int y1)
             if (row[x].tile != NT_TILE_EMPTY) return 0;
     }
     return 1;
-}
-
-NT__NOINLINE static int open_range(const nt_world *w, nt_vec2 p, nt_vec2 h, int cx, int cy)
-{
-    nt_real ic = w->inv_cell;
-    int x0 = cx - ((p.x - h.x) * ic < (nt_real)cx), x1 = cx + ((p.x + h.x) * ic >= (nt_real)(cx + 1));
-    int y0 = cy - ((p.y - h.y) * ic < (nt_real)cy), y1 = cy + ((p.y + h.y) * ic >= (nt_real)(cy + 1));
-    return cells_empty(w->map, x0, y0, x1, y1);
-}
-
-/* True when every cell the box can touch is an EMPTY cell of the map: nothing to
- * resolve (the common case for a body in the air, checked without a call). A body
- * is at most half a cell, so it lies within the 3 x 3 cells around its centre's. */
-static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
-{
-    nt_real ic = w->inv_cell;
-    int cx = nt__ifloor(p.x * ic), cy = nt__ifloor(p.y * ic);
-    if (nt__map_open3(w->map, cx, cy)) return 1;
-    return open_range(w, p, h, cx, cy);
 }
 
 /* open_air for a body above half a cell: every cell its box covers is an EMPTY
@@ -380,9 +383,9 @@ NT__NOINLINE static int open_box(const nt_world *w, nt_vec2 p, nt_vec2 h)
 }
 
 /* The tile resolution of a body that is not in open air (see resolve_body). */
-NT__NOINLINE static bool resolve_near(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p,
-                                      nt_resolution *res)
+NT__NOINLINE static bool resolve_near(nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
 {
+    w->counters.tile_resolutions++;
     nt_shape s = nt__body_shape(b);
     if (!w->oneway_count || !oneway_in_range(w, p, b->half)) return nt_map_resolve(w->map, p, s, res);
     /* One-way tiles stop a body only from above, and only if it was not inside them. */
@@ -400,7 +403,7 @@ NT__NOINLINE static bool resolve_near(const nt_world *w, const nt__body *b, nt_v
 
 /* Free the body at p (it was at p_prev) from the tiles: false when it touches none,
  * else true with the resolution in *res (world units). */
-static inline bool resolve_body(const nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
+static inline bool resolve_body(nt_world *w, const nt__body *b, nt_vec2 p_prev, nt_vec2 p, nt_resolution *res)
 {
     if (!(b->flags & NT__BF_LARGE) ? open_air(w, p, b->half) : open_box(w, p, b->half)) return false;
     return resolve_near(w, b, p_prev, p, res);
@@ -453,6 +456,51 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
     nt_vec2 n = res->contact_count ? res->contacts[0].normal : (len > 0 ? nt__scale(p, 1 / len) : nt_v2(0, 0));
     b->p.x += p.x - skin * n.x;
     b->p.y += p.y - skin * n.y;
+}
+
+/* The depth apply_push leaves a body at in a surface: the skin, or half the body's
+ * thickness for a body thinner than two skins. */
+static inline nt_real body_skin(const nt_world *w, const nt__body *b)
+{
+    nt_real skin = skin_at(w, b->p);
+    nt_real hmin = nt__min(b->half.x, b->half.y);
+    return skin * 2 > hmin ? R(0.5) * hmin : skin;
+}
+
+/* How far from that depth a body may be and still count as held there (an eighth of
+ * it): pushing it back to exactly the skin would move it by a rounding of its position
+ * every step. */
+#define SKIN_BAND R(0.125)
+
+/* True when every surface of the resolution holds the body within the band about the
+ * skin's depth: where apply_push would leave it, up to rounding. */
+static int skin_deep(const nt_world *w, const nt__body *b, const nt_resolution *res)
+{
+    nt_real skin = body_skin(w, b), tol = SKIN_BAND * skin;
+    if (res->contact_count < 1) return 0;
+    for (int k = 0; k < res->contact_count; k++)
+        if (!(nt__fabs(res->contacts[k].depth - skin) <= tol)) return 0;
+    return 1;
+}
+
+/* A body gliding along the flat surface it touched at the end of the last step (every
+ * remembered contact along one normal n, not moving into it, no one-way tile in the
+ * world): when at p every tile it overlaps holds it along n within the band about the
+ * skin, that is the resolution (one contact, no push), found without searching for the
+ * way out of the tiles. False: resolve. */
+static int glide(const nt_world *w, const nt__body *b, nt_vec2 p, nt_resolution *res)
+{
+    if (!b->ntc || w->oneway_count || (b->flags & NT__BF_LARGE)) return 0;
+    nt_vec2 n = b->tc[0].n;
+    if (b->ntc == 2 && !(nt__dot(b->tc[1].n, n) > R(0.999))) return 0;
+    if (nt__dot(b->v, n) < 0) return 0;
+    nt_real skin = body_skin(w, b), tol = SKIN_BAND * skin;
+    nt_shape s = nt__body_shape(b);
+    if (!nt__map_glides(w->map, p, &s, n, skin - tol, skin + tol, &res->contacts[0])) return 0;
+    res->push = nt_v2(0, 0);
+    res->contact_count = 1;
+    res->status = NT_OK;
+    return 1;
 }
 
 /* Remember the surfaces of a resolution. A straight surface seen again keeps the
@@ -1301,6 +1349,54 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
     return 1;
 }
 
+/* The gravity whose exact parabola a body in free flight follows this step (see
+ * move_dynamic), or zero. Read before the move updates NT__MF_AIR. */
+static inline nt_vec2 flight_gravity(const nt_world *w, const nt__body *b, nt_real dt, int free_ok)
+{
+    if (!(free_ok && !b->ntc && (b->motion & NT__MF_AIR) && !(b->motion & NT__MF_SOLVED) && b->drag == 0) ||
+        (w->def.gravity.x == 0 && w->def.gravity.y == 0))
+        return nt_v2(0, 0);
+    nt_vec2 ga = nt_v2(w->def.gravity.x * b->gravity_scale, w->def.gravity.y * b->gravity_scale);
+    /* Not when the parabola's bend is more than a step may move (huge gravity): the
+     * speed limit holds the displacement, and v dt keeps within it. */
+    nt_real bend = R(0.5) * dt * dt, maxd = w->def.max_cells_per_step * w->cell;
+    if (!(nt__fabs(ga.x) * bend <= maxd && nt__fabs(ga.y) * bend <= maxd)) ga = nt_v2(0, 0);
+    return ga;
+}
+
+/* move_dynamic's answer for the most common body: no tile contact at the end of the
+ * last step, no time-of-impact shift, one
+ * substep (a step shorter than its smaller half-size, or a sweep through EMPTY cells
+ * only), and open air where it arrives. The same arithmetic as move_dynamic; returns
+ * 0, changing nothing, for any other body. */
+static inline int fly_free(nt_world *w, nt__body *b, nt_real dt, int free_ok)
+{
+    if (b->ntc || (b->motion & NT__MF_SHIFT)) return 0;
+    nt_vec2 disp = nt__scale(b->v, dt);
+    nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
+    if (!(d2 < R(0.98) * hmin * hmin)) {
+        nt_real dist = nt__sqrt(d2);
+        if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) return 0;
+    }
+    nt_vec2 ga = flight_gravity(w, b, dt, free_ok), d = disp;
+    if (ga.x != 0 || ga.y != 0) {
+        nt_real h = dt / (nt_real)1, back = dt - R(0.5) * h; /* one substep, as move_dynamic computes it */
+        d = nt_v2((b->v.x - ga.x * back) * h, (b->v.y - ga.y * back) * h);
+    }
+    nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
+    if (!(!(b->flags & NT__BF_LARGE) ? open_air(w, q, b->half) : open_box(w, q, b->half))) return 0;
+    b->motion = (uint8_t)((b->motion & ~NT__MF_MET) | NT__MF_AIR);
+    if (q.x == b->p.x && q.y == b->p.y) {
+        b->flags |= NT__BF_RESTING;
+        b->rest_p = q;
+        b->rest_epoch = w->map_epoch;
+    } else {
+        b->flags &= (uint8_t)~NT__BF_RESTING;
+        b->p = q;
+    }
+    return 1;
+}
+
 static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
 {
     nt__body *b = &w->bodies[i];
@@ -1327,18 +1423,6 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     }
     nt_real h = dt / (nt_real)n;
     hit_rec hit = {0, {0, 0}, 0, 0};
-    /* A body that does not move, where the last resolution moved it by nothing, with
-     * the tiles unchanged since: the resolution would give the same answer again (it
-     * depends on the position and the tiles only), so keep its contacts as they are.
-     * This is what makes bodies resting on tiles cheap. */
-    if (n == 1 && !shifted && b->v.x == 0 && b->v.y == 0 && (b->flags & NT__BF_RESTING) &&
-        b->rest_epoch == w->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y) {
-        for (int k = 0; k < b->ntc; k++) {
-            b->tc[k].lambda = 0;
-            b->tc[k].solved = 0;
-        }
-        return 1;
-    }
     b->flags &= (uint8_t)~NT__BF_RESTING;
     /* Free flight (no tile contact at the end of the last two steps, no contact in
      * this step's solve, no drag, not held back by the speed limit) follows the exact
@@ -1348,16 +1432,8 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
      * tile contact only in the last step (at a seam, a crest): with v dt it sinks back
      * into the surface it slides along, where the parabola would leave it above it,
      * within the skin, and out of contact. */
-    nt_vec2 ga = nt_v2(0, 0);
-    int air = (b->motion & NT__MF_AIR) != 0;
+    nt_vec2 ga = flight_gravity(w, b, dt, free_ok);
     b->motion = (uint8_t)((b->motion & ~NT__MF_AIR) | (b->ntc ? 0 : NT__MF_AIR));
-    if (free_ok && !b->ntc && air && !(b->motion & NT__MF_SOLVED) && b->drag == 0) {
-        ga = nt_v2(w->def.gravity.x * b->gravity_scale, w->def.gravity.y * b->gravity_scale);
-        /* Not when the parabola's bend is more than a step may move (huge gravity): the
-         * speed limit holds the displacement, and v dt keeps within it. */
-        nt_real bend = R(0.5) * dt * dt, maxd = w->def.max_cells_per_step * w->cell;
-        if (!(nt__fabs(ga.x) * bend <= maxd && nt__fabs(ga.y) * bend <= maxd)) ga = nt_v2(0, 0);
-    }
     int flying = ga.x != 0 || ga.y != 0;
     for (int s = 0; s < n; s++) {
         nt_vec2 p0 = b->p;
@@ -1373,13 +1449,18 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
         b->p.y += d.y;
         nt_vec2 p1 = b->p;
         nt_resolution res;
-        if (!resolve_body(w, b, p0, b->p, &res)) {
+        if (n == 1 && !flying && !shifted && glide(w, b, b->p, &res)) {
+            store_tile_contacts(w, b, &res, 1);
+        } else if (!resolve_body(w, b, p0, b->p, &res)) {
             b->ntc = 0;
         } else if (flying && toi_bounce(w, b, p0, d, &res, ga, dt - ((nt_real)s + 1) * h, h, &hit)) {
             b->ntc = 0; /* on its way back, free: the rest of the step is flown */
             break;
         } else {
-            apply_push(w, b, &res);
+            /* A body that did not move and sits within the skin of every surface it
+             * touches is resting: no push. (Pushing it to exactly the skin moves it by
+             * a rounding of its position every step, and it never counts as resting.) */
+            if (!(n == 1 && p0.x == p1.x && p0.y == p1.y && skin_deep(w, b, &res))) apply_push(w, b, &res);
             respond_tiles(w, b, &res, &hit);
             store_tile_contacts(w, b, &res, 1);
             flying = 0;
@@ -1404,17 +1485,46 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     return n;
 }
 
-static void move_bodies(nt_world *w, nt_real dt)
+/* A body that does not move, where the last resolution moved it by nothing, with
+ * the tiles unchanged since: the resolution would give the same answer again (it
+ * depends on the position and the tiles only), so its contacts are kept as they are
+ * and it stays where it is. This is what makes bodies resting on tiles cheap. */
+static inline int at_rest(const nt_world *w, const nt__body *b)
 {
-    nt_real maxd = w->def.max_cells_per_step * w->cell;
+    return (b->flags & NT__BF_RESTING) && b->v.x == 0 && b->v.y == 0 && !(b->motion & NT__MF_SHIFT) &&
+           b->rest_epoch == w->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y;
+}
+
+/* The move. `forces`: the velocity phase had no body contact to solve, so each body's
+ * gravity, drag and resting tile contacts are answered here, just before its move (the
+ * same arithmetic in the same order per body, one pass over the bodies fewer). */
+static void move_bodies(nt_world *w, nt_real dt, int forces)
+{
+    nt_real maxd = w->def.max_cells_per_step * w->cell, vmax2 = (maxd / dt) * (maxd / dt);
     int moves = 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
+        if (b->type == NT_BODY_DYNAMIC) {
+            if (forces) {
+                b->motion &= (uint8_t)~NT__MF_SOLVED;
+                b->v = nt__solve_velocity(w, b, dt);
+                if (b->ntc) tile_solve(w, b);
+            }
+            if (at_rest(w, b)) {
+                b->motion &= (uint8_t)~NT__MF_MET;
+                for (int c = 0; c < b->ntc; c++) {
+                    b->tc[c].lambda = 0;
+                    b->tc[c].solved = 0;
+                }
+                moves++;
+                continue; /* (in the same grid cell, at the same place) */
+            }
+        }
         nt_real sp2 = nt__dot(b->v, b->v);
         int limited = 1;
         if (!(sp2 <= NT_REAL_MAX)) b->v = nt__clamp_overflow(b->v, maxd / dt);
-        else if (sp2 * dt * dt > maxd * maxd) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
+        else if (sp2 > vmax2) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
         else limited = 0;
         if (b->type == NT_BODY_KINEMATIC) {
             /* A character was moved by nt_character_move: its velocity, that move's,
@@ -1426,6 +1536,8 @@ static void move_bodies(nt_world *w, nt_real dt)
                 b->p.y += b->v.y * dt;
             }
             moves++;
+        } else if (fly_free(w, b, dt, !limited)) {
+            moves++;
         } else {
             moves += move_dynamic(w, i, dt, !limited);
             if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
@@ -1433,146 +1545,6 @@ static void move_bodies(nt_world *w, nt_real dt)
         if (b->gcell >= 0) nt__grid_update(w, i);
     }
     w->counters.substep_count = moves;
-}
-
-/* ---------------------------------------------------------------- 5. sleep */
-
-static int32_t uf_find(int32_t *parent, int32_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-static void uf_union(int32_t *parent, int32_t a, int32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a == b) return;
-    /* The smaller index becomes the root: the result does not depend on the order. */
-    if (a < b) parent[b] = a;
-    else parent[a] = b;
-}
-
-/* Make an asleep body's whole group one union-find set (first time it is seen). */
-static void uf_add_sleeping(nt_world *w, int32_t *parent, int32_t *head, nt_real *tmin, int32_t i)
-{
-    nt__body *b = &w->bodies[i];
-    if (b->flags & NT__BF_MARK) return;
-    int32_t j = i;
-    do {
-        w->bodies[j].flags |= NT__BF_MARK;
-        parent[j] = j;
-        head[j] = -1;
-        tmin[j] = NT_REAL_MAX;
-        j = w->bodies[j].sleep_next;
-    } while (j >= 0 && j != i);
-    j = i;
-    do {
-        uf_union(parent, i, j);
-        j = w->bodies[j].sleep_next;
-    } while (j >= 0 && j != i);
-}
-
-static void update_sleep(nt_world *w, nt_real dt)
-{
-    if (!w->def.enable_sleep) return;
-    nt_real v2max = w->def.sleep_speed * w->def.sleep_speed;
-    int32_t *parent = w->scratch_a, *head = w->scratch_a + w->body_cap;
-    nt_real *tmin = w->scratch_r;
-    int candidates = 0;
-    /* With no body contacts every body is an island of its own: no union-find. */
-    const int islands = w->con_count > 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
-        else b->sleep_time += dt;
-        if (b->sleep_time >= w->def.sleep_time) candidates++;
-        if (islands) {
-            parent[i] = i;
-            head[i] = -1;
-            tmin[i] = NT_REAL_MAX;
-        }
-    }
-    if (candidates == 0) return;
-    if (!islands) {
-        /* Gather first (sleeping reorders the awake array), then sleep alone. */
-        int32_t *list = w->wake_list;
-        int n = 0;
-        for (int k = 0; k < w->awake_count; k++) {
-            int32_t i = w->awake[k];
-            const nt__body *b = &w->bodies[i];
-            if (b->type == NT_BODY_DYNAMIC && b->sleep_time >= w->def.sleep_time) list[n++] = i;
-        }
-        for (int q = 0; q < n; q++) {
-            nt__sleep_body(w, list[q]);
-            w->bodies[list[q]].sleep_next = list[q];
-        }
-        return;
-    }
-    /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-        int32_t ia = key_a(c->key), ib = key_b(c->key);
-        nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-        /* A moving kinematic body keeps what it touches awake. */
-        if (a->type == NT_BODY_KINEMATIC && (a->v.x != 0 || a->v.y != 0)) b->sleep_time = 0;
-        if (b->type == NT_BODY_KINEMATIC && (b->v.x != 0 || b->v.y != 0)) a->sleep_time = 0;
-        if (a->type != NT_BODY_DYNAMIC || b->type != NT_BODY_DYNAMIC) continue;
-        if (a->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ia);
-        if (b->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ib);
-        uf_union(parent, ia, ib);
-    }
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        const nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        int32_t r = uf_find(parent, i);
-        if (b->sleep_time < tmin[r]) tmin[r] = b->sleep_time;
-    }
-    /* Gather the sleepers first: sleeping reorders the awake array. */
-    int32_t *list = w->wake_list;
-    int n = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        if (w->bodies[i].type == NT_BODY_DYNAMIC && tmin[uf_find(parent, i)] >= w->def.sleep_time) list[n++] = i;
-    }
-    /* Sleeping groups reached through contacts join the new group. */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        for (int s = 0; s < 2; s++) {
-            int32_t i = s ? key_b(c->key) : key_a(c->key);
-            nt__body *b = &w->bodies[i];
-            if (!(b->flags & NT__BF_MARK)) continue;
-            int32_t r = uf_find(parent, i);
-            int sleeps = tmin[r] >= w->def.sleep_time;
-            /* Clear the marks of the whole group, adding it to the sleepers if they sleep. */
-            int32_t j = i;
-            do {
-                w->bodies[j].flags &= (uint8_t)~NT__BF_MARK;
-                if (sleeps) list[n++] = j;
-                j = w->bodies[j].sleep_next;
-            } while (j >= 0 && j != i);
-        }
-    }
-    for (int q = 0; q < n; q++) {
-        int32_t i = list[q];
-        int32_t r = uf_find(parent, i);
-        nt__body *b = &w->bodies[i];
-        if (b->awake_slot >= 0) nt__sleep_body(w, i);
-        if (head[r] < 0) {
-            head[r] = i;
-            b->sleep_next = i;
-        } else {
-            b->sleep_next = w->bodies[head[r]].sleep_next;
-            w->bodies[head[r]].sleep_next = i;
-        }
-    }
 }
 
 /* ---------------------------------------------------------------- the step */
@@ -1584,6 +1556,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
     if (w->profiling) t[0] = clock_ms();
     w->pairs_ms = 0;
     w->kicked_count = 0;
+    w->counters.tile_resolutions = 0;
     nt_status s = collide(w, dt);
     if (s != NT_OK) {
         clear_move_marks(w); /* the pair search may have marked fast bodies: a failed step leaves no trace */
@@ -1596,15 +1569,18 @@ nt_status nt__step(nt_world *w, nt_real dt)
     if (w->con_count) build_contact_lists(w);
     correct_positions(w);
     if (w->profiling) t[3] = clock_ms();
-    solve_velocities(w, dt, ratio);
+    /* Without body contacts the velocity phase is only each body's own forces: they
+     * are applied in the move's pass. */
+    int forces = w->con_count == 0;
+    if (!forces) solve_velocities(w, dt, ratio);
     if (w->profiling) t[4] = clock_ms();
-    move_bodies(w, dt);
+    move_bodies(w, dt, forces);
     /* A body that met a tile in the move, after the velocity solve, may have turned
      * back into a body that kept coming (the lower one of a falling pair bounces off
      * a floor): the pairs around such bodies are corrected once more. */
     if (w->kicked_count) correct_after_move(w);
     if (w->profiling) t[5] = clock_ms();
-    update_sleep(w, dt);
+    nt__update_sleep(w, dt);
     if (w->profiling) {
         t[6] = clock_ms();
         t[1] = w->pairs_ms;

@@ -1,28 +1,12 @@
-/* The world: lifecycle, bodies, tiles and materials, sleeping groups, events,
- * queries, debug drawing and the state hash. The step itself is in response.c,
- * the broad phase in grid.c. */
+/* The world: lifecycle, bodies, tiles and materials, events, queries, debug drawing
+ * and the state hash. The step itself is in response.c, the broad phase in grid.c,
+ * sleeping groups and parked contacts in sleep.c. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "core.h"
 
 /* ---------------------------------------------------------------- helpers */
-
-void *nt__grow(void *old, int used, int *cap, int need, size_t elem)
-{
-    if (need <= *cap) return old;
-    long long want = (long long)*cap * 2;
-    if (want < need) want = need;
-    if (want < 16) want = 16;
-    if (want > 0x7fffffff) want = 0x7fffffff;
-    if (want < need || (unsigned long long)want > (unsigned long long)(SIZE_MAX / elem)) return NULL;
-    void *p = nt__alloc((size_t)want * elem);
-    if (!p) return NULL;
-    if (old && used > 0) memcpy(p, old, (size_t)used * elem);
-    nt__free(old);
-    *cap = (int)want;
-    return p;
-}
 
 static int finite2(nt_vec2 v) { return nt__finite(v.x) && nt__finite(v.y); }
 
@@ -282,13 +266,6 @@ nt_world_profile nt_world_get_profile(const nt_world *w)
 
 nt_vec2 nt_world_get_gravity(const nt_world *w) { return w ? w->def.gravity : nt_v2(0, 0); }
 
-static void wake_all(nt_world *w)
-{
-    for (int32_t i = 0; i < w->body_hwm; i++)
-        if ((w->bodies[i].flags & NT__BF_ALIVE) && w->bodies[i].type == NT_BODY_DYNAMIC) nt__wake_group(w, i);
-    nt__unpark(w);
-}
-
 nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
 {
     NT__CHECK_LOCK(w);
@@ -296,44 +273,13 @@ nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
     if (!finite2(g)) return NT_ERR_NON_FINITE;
     if (!gravity_in_range(g)) return NT_ERR_OUT_OF_RANGE;
     w->def.gravity = g;
-    wake_all(w);
+    nt__wake_all(w);
     return NT_OK;
 }
 
 /* ---------------------------------------------------------------- tiles and cells */
 
 int nt_world_get_tile(const nt_world *w, int x, int y) { return w ? nt_map_get_tile(w->map, x, y) : NT_TILE_FULL; }
-
-nt_material nt__cell_material(const nt_world *w, int x, int y)
-{
-    if (!w->cell_mat || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return w->materials[0];
-    return w->materials[w->cell_mat[(size_t)y * (size_t)w->map->w + (size_t)x]];
-}
-
-uint32_t nt__cell_flags(const nt_world *w, int x, int y)
-{
-    if (!w->cell_flags || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return 0;
-    return w->cell_flags[(size_t)y * (size_t)w->map->w + (size_t)x];
-}
-
-/* Wake the bodies whose box, grown by a cell, meets cells x0..x1, y0..y1, and drop their
- * remembered contacts with those cells (the surface may be gone). */
-static void wake_near_cells(nt_world *w, int x0, int y0, int x1, int y1)
-{
-    nt_real c = w->cell;
-    nt_real lx = (nt_real)(x0 - 1) * c, ly = (nt_real)(y0 - 1) * c;
-    nt_real hx = (nt_real)(x1 + 2) * c, hy = (nt_real)(y1 + 2) * c;
-    for (int32_t i = 0; i < w->body_hwm; i++) {
-        nt__body *b = &w->bodies[i];
-        if (!(b->flags & NT__BF_ALIVE) || b->type != NT_BODY_DYNAMIC) continue;
-        if (b->p.x + b->half.x < lx || b->p.x - b->half.x > hx || b->p.y + b->half.y < ly ||
-            b->p.y - b->half.y > hy)
-            continue;
-        nt__wake_group(w, i);
-        b->ntc = 0;
-    }
-    nt__unpark(w);
-}
 
 nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
 {
@@ -346,7 +292,7 @@ nt_status nt_world_set_tile(nt_world *w, int x, int y, int tile)
         int t = (nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : tile;
         nt_map_set_tile(w->solid, x, y, t);
     }
-    wake_near_cells(w, x, y, x, y);
+    nt__wake_near_cells(w, x, y, x, y);
     return NT_OK;
 }
 
@@ -372,7 +318,7 @@ nt_status nt_world_set_tiles(nt_world *w, const uint8_t *tiles, size_t count)
         nt__free(tmp);
     }
     for (int32_t i = 0; i < w->body_hwm; i++) w->bodies[i].ntc = 0;
-    wake_all(w);
+    nt__wake_all(w);
     return NT_OK;
 }
 
@@ -459,183 +405,12 @@ nt_status nt_world_set_cell_flags(nt_world *w, int x, int y, uint32_t flags)
     if ((old ^ flags) & NT_CELL_ONE_WAY) {
         w->oneway_count += (flags & NT_CELL_ONE_WAY) ? 1 : -1;
         nt_map_set_tile(w->solid, x, y, (flags & NT_CELL_ONE_WAY) ? NT_TILE_EMPTY : w->map->cells[k].tile);
-        wake_near_cells(w, x, y, x, y);
+        nt__wake_near_cells(w, x, y, x, y);
     }
     return NT_OK;
 }
 
 uint32_t nt_world_get_cell_flags(const nt_world *w, int x, int y) { return w ? nt__cell_flags(w, x, y) : 0; }
-
-/* ---------------------------------------------------------------- sleeping groups */
-
-static void awake_add(nt_world *w, int32_t i)
-{
-    w->bodies[i].awake_slot = w->awake_count;
-    w->awake[w->awake_count++] = i;
-}
-
-static void awake_remove(nt_world *w, int32_t i)
-{
-    int32_t slot = w->bodies[i].awake_slot;
-    if (slot < 0) return;
-    int32_t last = w->awake[--w->awake_count];
-    w->awake[slot] = last;
-    w->bodies[last].awake_slot = slot;
-    w->bodies[i].awake_slot = -1;
-}
-
-/* Record body i (woken, or destroyed) for the next nt__unpark, which walks its chain. */
-static void note_woken(nt_world *w, int32_t i)
-{
-    if (w->woken_count < w->body_cap) w->woken[w->woken_count++] = i;
-    else w->woken_lost = 1; /* the next unpark scans every slot */
-}
-
-void nt__wake_group(nt_world *w, int32_t i)
-{
-    nt__body *b = &w->bodies[i];
-    if (!(b->flags & NT__BF_ALIVE) || b->type != NT_BODY_DYNAMIC || b->awake_slot >= 0) return;
-    int32_t j = i;
-    do {
-        nt__body *bj = &w->bodies[j];
-        int32_t next = bj->sleep_next;
-        bj->sleep_next = -1;
-        bj->sleep_time = 0;
-        awake_add(w, j);
-        note_woken(w, j);
-        if (bj->gcell >= 0) {
-            bj->glist = NT__LIST_ACTIVE;
-            nt__grid_update(w, j);
-        }
-        j = next;
-    } while (j >= 0 && j != i);
-}
-
-void nt__sleep_body(nt_world *w, int32_t i)
-{
-    nt__body *b = &w->bodies[i];
-    awake_remove(w, i);
-    b->v = nt_v2(0, 0);
-    b->sleep_time = 0;
-    if (b->gcell >= 0) {
-        b->glist = NT__LIST_REST;
-        nt__grid_update(w, i);
-    }
-}
-
-static int contact_live_awake(const nt_world *w, const nt__contact *c)
-{
-    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
-    const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
-    if (!(ba->flags & NT__BF_ALIVE) || !(bb->flags & NT__BF_ALIVE) || ba->generation != c->gen_a ||
-        bb->generation != c->gen_b)
-        return 1; /* dead: must go back to produce its end event */
-    return ba->awake_slot >= 0 || bb->awake_slot >= 0;
-}
-
-/* Chain parked slot k into the lists of its two bodies. */
-static void park_link(nt_world *w, int k)
-{
-    const nt__contact *c = &w->parked[k];
-    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
-    w->park_link[k].next[0] = w->cold[a].park_head;
-    w->cold[a].park_head = k;
-    w->park_link[k].next[1] = w->cold[b].park_head;
-    w->cold[b].park_head = k;
-}
-
-void nt__park(nt_world *w, const nt__contact *c)
-{
-    /* Room is reserved by the caller: parked_cap and park_link_cap > parked_count. */
-    int k = w->parked_count++;
-    w->parked[k] = *c;
-    w->parked_live++;
-    park_link(w, k);
-}
-
-/* Parked slot k goes back to the contact list; its slot stays, emptied. */
-static void unpark_slot(nt_world *w, int k)
-{
-    /* Room is guaranteed: con_cap >= con_count + parked_live. */
-    if (!w->con_dirty) w->con_sorted = w->con_count; /* the sorted part ends here */
-    w->con[w->con_count++] = w->parked[k];
-    w->con_dirty = 1;
-    w->parked[k].flags |= NT__CF_GONE;
-    w->parked_live--;
-}
-
-static int cmp_slot(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* Drop the emptied slots (keeping the order of the others) and chain the rest anew. */
-void nt__compact_parked(nt_world *w)
-{
-    for (int k = 0; k < w->parked_count; k++) {
-        const nt__contact *c = &w->parked[k];
-        w->cold[(int32_t)(c->key >> 32)].park_head = -1;
-        w->cold[(int32_t)(c->key & 0xffffffffu)].park_head = -1;
-    }
-    int n = 0;
-    for (int k = 0; k < w->parked_count; k++)
-        if (!(w->parked[k].flags & NT__CF_GONE)) w->parked[n++] = w->parked[k];
-    w->parked_count = w->parked_live = n;
-    for (int k = 0; k < n; k++) park_link(w, k);
-}
-
-/* Every parked contact with a body awake (or dead) goes back to the contact list.
- * Only the chains of the bodies woken since the last call are walked: a parked
- * contact's bodies were both asleep or static when it was parked, only
- * nt__wake_group wakes a sleeping body (and records it), and a destroyed body is
- * recorded by nt_body_destroy. Every caller of nt__wake_group unparks right after, so
- * the record never holds a body twice (else: woken_lost, and every slot is scanned). */
-void nt__unpark(nt_world *w)
-{
-    if (w->woken_lost) {
-        for (int k = 0; k < w->parked_count; k++)
-            if (!(w->parked[k].flags & NT__CF_GONE) && contact_live_awake(w, &w->parked[k])) unpark_slot(w, k);
-    } else {
-        /* The slots to move back, picked from the chains, go back in slot order: the
-         * contacts are used in list order until the next step sorts them, so the
-         * order must not depend on which chain reached a slot first. */
-        int n = 0;
-        for (int q = 0; q < w->woken_count; q++) {
-            int32_t j = w->woken[q];
-            int32_t *link = &w->cold[j].park_head;
-            while (*link >= 0) {
-                int k = *link;
-                nt__contact *c = &w->parked[k];
-                int32_t *next = &w->park_link[k].next[(int32_t)(c->key >> 32) == j ? 0 : 1];
-                if (!(c->flags & NT__CF_GONE) && !contact_live_awake(w, c)) {
-                    link = next; /* stays parked (cannot happen: j is awake or dead) */
-                    continue;
-                }
-                if (!(c->flags & NT__CF_GONE)) {
-                    c->flags |= NT__CF_GONE; /* picked; unpark_slot sets it again */
-                    w->park_pick[n++] = k;
-                }
-                *link = *next; /* out of j's chain */
-            }
-        }
-        if (n > 1) qsort(w->park_pick, (size_t)n, sizeof *w->park_pick, cmp_slot);
-        for (int q = 0; q < n; q++) {
-            w->parked[w->park_pick[q]].flags &= ~(uint32_t)NT__CF_GONE;
-            unpark_slot(w, w->park_pick[q]);
-        }
-    }
-    w->woken_count = 0;
-    w->woken_lost = 0;
-    /* Emptied slots are dropped once they are the majority: amortised O(1) a contact. */
-    if (w->parked_count - w->parked_live > w->parked_live && w->parked_count > 64) nt__compact_parked(w);
-}
-
-void nt__wake(nt_world *w, int32_t i)
-{
-    nt__wake_group(w, i);
-    nt__unpark(w);
-}
 
 /* ---------------------------------------------------------------- bodies */
 
@@ -786,7 +561,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     else w->first = i;
     w->last = i;
     w->body_count++;
-    if (def->type == NT_BODY_KINEMATIC || (def->type == NT_BODY_DYNAMIC && def->is_awake)) awake_add(w, i);
+    if (def->type == NT_BODY_KINEMATIC || (def->type == NT_BODY_DYNAMIC && def->is_awake)) nt__awake_add(w, i);
     else if (def->type == NT_BODY_DYNAMIC) b->sleep_next = i, b->v = nt_v2(0, 0);
     if (in_grid) {
         b->glist = b->awake_slot >= 0 ? NT__LIST_ACTIVE : NT__LIST_REST;
@@ -794,30 +569,6 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     }
     *out = make_id(w, i);
     return NT_OK;
-}
-
-/* Wake the other body of contact c, which names body i. */
-static void wake_other(nt_world *w, const nt__contact *c, int32_t i)
-{
-    int32_t a = (int32_t)(c->key >> 32), b = (int32_t)(c->key & 0xffffffffu);
-    if (a == i) nt__wake_group(w, b);
-    else if (b == i) nt__wake_group(w, a);
-}
-
-/* Wake every body in contact with body i: its listed contacts, then its parked ones
- * through its chain, in slot order (the order a scan of every slot would wake them
- * in, so the awake order does not depend on the chain's). */
-static void wake_partners(nt_world *w, int32_t i)
-{
-    for (int k = 0; k < w->con_count; k++) wake_other(w, &w->con[k], i);
-    int n = 0;
-    for (int32_t k = w->cold[i].park_head; k >= 0;) {
-        const nt__contact *c = &w->parked[k];
-        if (!(c->flags & NT__CF_GONE)) w->park_pick[n++] = k; /* room: a slot appears once */
-        k = w->park_link[k].next[(int32_t)(c->key >> 32) == i ? 0 : 1];
-    }
-    if (n > 1) qsort(w->park_pick, (size_t)n, sizeof *w->park_pick, cmp_slot);
-    for (int q = 0; q < n; q++) wake_other(w, &w->parked[w->park_pick[q]], i);
 }
 
 nt_status nt_body_destroy(nt_world *w, nt_body_id id)
@@ -828,8 +579,8 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     int32_t i = id.index1 - 1;
     /* Bodies resting on this one must not float: wake its group and its partners. */
     if (b->type == NT_BODY_DYNAMIC && b->awake_slot < 0) nt__wake_group(w, i);
-    wake_partners(w, i);
-    awake_remove(w, i);
+    nt__wake_partners(w, i);
+    nt__awake_remove(w, i);
     nt__character_remove(w, i);
     w->one_way_bodies -= b->one_way;
     if (b->gcell >= 0) nt__grid_remove(w, i);
@@ -844,7 +595,7 @@ nt_status nt_body_destroy(nt_world *w, nt_body_id id)
     else w->last = c->cprev;
     w->body_count--;
     /* Its parked contacts go back to give end events: its chain is walked. */
-    note_woken(w, i);
+    nt__note_woken(w, i);
     nt__unpark(w);
     return NT_OK;
 }
@@ -916,7 +667,7 @@ nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
     b->p = p;
     b->ntc = 0;
     if (b->gcell >= 0) nt__grid_update(w, i);
-    if (b->type == NT_BODY_STATIC) wake_partners(w, i);
+    if (b->type == NT_BODY_STATIC) nt__wake_partners(w, i);
     nt__wake(w, i);
     return NT_OK;
 }
@@ -936,7 +687,7 @@ nt_status nt_body_set_velocity(nt_world *w, nt_body_id id, nt_vec2 v)
     if (b->type == NT_BODY_STATIC) return NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
     b->v = v;
-    if (b->type == NT_BODY_KINEMATIC) wake_partners(w, i);
+    if (b->type == NT_BODY_KINEMATIC) nt__wake_partners(w, i);
     nt__wake(w, i);
     return NT_OK;
 }
@@ -1018,7 +769,7 @@ nt_status nt_body_set_filter(nt_world *w, nt_body_id id, uint32_t category, uint
         b->glist = b->awake_slot >= 0 ? NT__LIST_ACTIVE : NT__LIST_REST;
         nt__grid_insert(w, i);
     }
-    wake_partners(w, i);
+    nt__wake_partners(w, i);
     nt__wake(w, i);
     return NT_OK;
 }

@@ -1,5 +1,6 @@
 /* The world simulation's internals: body, contact and world layouts, and the
- * functions world.c, response.c, grid.c, cast.c and character.c share. Not installed. */
+ * functions world.c, response.c, grid.c, sleep.c, cast.c and character.c share. Not
+ * installed. */
 #ifndef NT_WORLD_INTERNAL_H
 #define NT_WORLD_INTERNAL_H
 
@@ -261,31 +262,28 @@ static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 /* floor() to int without a libm call, for the hot paths; clamped like nt__floor_int. */
 static inline int nt__ifloor(nt_real v) { return nt__floor_int(v); }
 
-/* world.c */
+/* A cell's flags (NT_CELL_ONE_WAY, ...): 0 outside the map or when none were set. */
+static inline uint32_t nt__cell_flags(const nt_world *w, int x, int y)
+{
+    if (!w->cell_flags || x < 0 || y < 0 || x >= w->map->w || y >= w->map->h) return 0;
+    return w->cell_flags[(size_t)y * (size_t)w->map->w + (size_t)x];
+}
+
+/* sleep.c: the awake list, sleeping groups and parked contacts */
+void nt__awake_add(nt_world *w, int32_t i);     /* join the awake list */
+void nt__awake_remove(nt_world *w, int32_t i);  /* leave it (no-op when not in it) */
+void nt__note_woken(nt_world *w, int32_t i);    /* i woke or died: its parked contacts go back at the next unpark */
 void nt__wake(nt_world *w, int32_t i);          /* wake i's sleeping group, restore its contacts */
 void nt__wake_group(nt_world *w, int32_t i);    /* the same without restoring contacts */
+void nt__wake_all(nt_world *w);                 /* every dynamic body (gravity changed) */
+void nt__wake_near_cells(nt_world *w, int x0, int y0, int x1, int y1); /* bodies near changed cells, their tile contacts dropped */
+void nt__wake_partners(nt_world *w, int32_t i); /* every body in contact with i (listed or parked) */
 void nt__unpark(nt_world *w);                   /* move parked contacts of woken (or dead) bodies back */
 void nt__park(nt_world *w, const nt__contact *c); /* set a contact aside (room reserved by the caller) */
 void nt__compact_parked(nt_world *w);           /* drop the parked slots emptied by nt__unpark */
 void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller links the group) */
-/* Array growth through the allocator hook: returns the (possibly new) array with room
- * for `need` elements and the first `used` kept, or NULL (old array untouched). */
-void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
-/* Room for `need` elements in *arr (the first `used` kept), growing it through nt__grow
- * when *cap is less: 1, or 0 when out of memory (*arr untouched). The plain-code form of
- * response.c's GROW macro, which returns from its caller:
- *     if (!nt__reserve((void **)&w->con, w->con_count, &w->con_cap, need, sizeof *w->con))
- *         return NT_ERR_OUT_OF_MEMORY; */
-static inline int nt__reserve(void **arr, int used, int *cap, int need, size_t elem)
-{
-    if (need <= *cap) return 1;
-    void *p = nt__grow(*arr, used, cap, need, elem);
-    if (!p) return 0;
-    *arr = p;
-    return 1;
-}
-nt_material nt__cell_material(const nt_world *w, int x, int y);
-uint32_t nt__cell_flags(const nt_world *w, int x, int y);
+void nt__update_sleep(nt_world *w, nt_real dt); /* the end of a step: groups that rested long enough sleep */
+
 /* The velocity body b enters this step's contact solve with (dt the step): awake
  * dynamic bodies get gravity and drag (response.c), the others keep theirs. The pair
  * search predicts with it whether a gap closes this step, which must be the solve's

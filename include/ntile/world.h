@@ -239,6 +239,9 @@ typedef struct nt_world_counters {
     int contact_count; ///< body pairs overlapping (and sensor overlaps)
     int substep_count; ///< body moves, sub-steps included
     int pair_tests;    ///< candidate pairs tested by the broad phase
+    int tile_resolutions; ///< exact tile resolutions (nt_map_resolve) the step needed: bodies in open
+                          ///< air, resting where they rested, or gliding along a flat surface they
+                          ///< touched (within the skin) need none
 } nt_world_counters;
 
 /// Counters of the last step.
