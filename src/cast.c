@@ -1024,6 +1024,7 @@ bool nt__world_cast_shape(const nt_world *world, nt_vec2 pos, const nt_shape *sh
     r->point = nt__scale(contact_point(&c, q), world->map->cell);
     if (c.best.body >= 0) {
         r->body.index1 = c.best.body + 1;
+        r->body.world0 = world->tag;
         r->body.generation = world->bodies[c.best.body].generation;
     } else {
         r->cell_x = c.best.cx;

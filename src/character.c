@@ -56,7 +56,7 @@ static void set_angle(nt__character *c)
 /* The character record of a live body, or NULL. */
 static nt__character *char_of(const nt_world *w, nt_body_id id)
 {
-    if (!w || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
+    if (!w || id.world0 != w->tag || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
     const nt__body *b = &w->bodies[id.index1 - 1];
     if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NULL;
     int32_t k = w->cold[id.index1 - 1].character;
@@ -67,7 +67,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
 {
     NT__CHECK_LOCK(w);
     if (!w || !def) return NT_ERR_INVALID_ARGUMENT;
-    if (id.index1 <= 0 || id.index1 > w->body_hwm) return NT_ERR_INVALID_ID;
+    if (id.world0 != w->tag || id.index1 <= 0 || id.index1 > w->body_hwm) return NT_ERR_INVALID_ID;
     nt__body *b = &w->bodies[id.index1 - 1];
     if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NT_ERR_INVALID_ID;
     nt_status s = check_def(def);
@@ -80,7 +80,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
         return NT_OK;
     }
     if (b->type == NT_BODY_STATIC || (b->flags & NT__BF_SENSOR)) return NT_ERR_INVALID_ARGUMENT;
-    if (!nt__reserve((void **)&w->chars, w->char_count, &w->char_cap, w->char_count + 1, sizeof *w->chars))
+    if (!nt__reserve(&w->chars, w->char_count, &w->char_cap, w->char_count + 1, sizeof *w->chars))
         return NT_ERR_OUT_OF_MEMORY;
     nt__character *c = &w->chars[w->char_count];
     memset(c, 0, sizeof *c);

@@ -50,18 +50,19 @@ nt_vec2 nt__clamp_overflow(nt_vec2 v, nt_real vmax);
  * with room for `need` elements and the first `used` kept, or NULL (old array
  * untouched). */
 void *nt__grow(void *old, int used, int *cap, int need, size_t elem);
-/* Room for `need` elements in *arr (the first `used` kept), growing it through nt__grow
- * when *cap is less: 1, or 0 when out of memory (*arr untouched). The plain-code form of
- * response.c's GROW macro, which returns from its caller:
- *     if (!nt__reserve((void **)&w->con, w->con_count, &w->con_cap, need, sizeof *w->con))
- *         return NT_ERR_OUT_OF_MEMORY; */
-static inline int nt__reserve(void **arr, int used, int *cap, int need, size_t elem)
+/* Room for `need` elements in the array whose pointer is at arr_p (the first `used`
+ * kept, *cap allocated), through nt__grow: false when out of memory, the array then
+ * unchanged. The pointer is read and written with memcpy, so any T ** will do:
+ *     if (!nt__reserve(&w->chars, w->char_count, &w->char_cap, n, sizeof *w->chars)) ... */
+static inline bool nt__reserve(void *arr_p, int used, int *cap, int need, size_t elem)
 {
-    if (need <= *cap) return 1;
-    void *p = nt__grow(*arr, used, cap, need, elem);
-    if (!p) return 0;
-    *arr = p;
-    return 1;
+    if (need <= *cap) return true;
+    void *old;
+    memcpy(&old, arr_p, sizeof old);
+    void *p = nt__grow(old, used, cap, need, elem);
+    if (!p) return false;
+    memcpy(arr_p, &p, sizeof p);
+    return true;
 }
 
 /* Keeps a rarely taken path out of its caller (a smaller hot loop). */

@@ -30,10 +30,11 @@ static inline nt_vec2 perp(nt_vec2 n) { return nt_v2(-n.y, n.x); }
 static inline int32_t key_a(uint64_t k) { return (int32_t)(k >> 32); }
 static inline int32_t key_b(uint64_t k) { return (int32_t)(k & 0xffffffffu); }
 
-static inline nt_body_id id_of(int32_t i, uint32_t gen)
+static inline nt_body_id id_of(const nt_world *w, int32_t i, uint32_t gen)
 {
     nt_body_id id;
     id.index1 = i + 1;
+    id.world0 = w->tag;
     id.generation = gen;
     return id;
 }
@@ -137,12 +138,12 @@ static void end_event(nt_world *w, const nt__contact *c)
     if (c->flags & NT__CF_SENSOR) {
         nt_sensor_event *e = &w->ev_send[w->n_send++];
         int a_is_sensor = (c->flags & NT__CF_SENSOR_A) != 0;
-        e->sensor = a_is_sensor ? id_of(a, c->gen_a) : id_of(b, c->gen_b);
-        e->visitor = a_is_sensor ? id_of(b, c->gen_b) : id_of(a, c->gen_a);
+        e->sensor = a_is_sensor ? id_of(w, a, c->gen_a) : id_of(w, b, c->gen_b);
+        e->visitor = a_is_sensor ? id_of(w, b, c->gen_b) : id_of(w, a, c->gen_a);
     } else {
         nt_contact_end_event *e = &w->ev_end[w->n_end++];
-        e->a = id_of(a, c->gen_a);
-        e->b = id_of(b, c->gen_b);
+        e->a = id_of(w, a, c->gen_a);
+        e->b = id_of(w, b, c->gen_b);
     }
 }
 
@@ -152,13 +153,13 @@ static void begin_event(nt_world *w, const nt__contact *c)
     if (c->flags & NT__CF_SENSOR) {
         nt_sensor_event *e = &w->ev_sbegin[w->n_sbegin++];
         int a_is_sensor = (c->flags & NT__CF_SENSOR_A) != 0;
-        e->sensor = a_is_sensor ? id_of(a, c->gen_a) : id_of(b, c->gen_b);
-        e->visitor = a_is_sensor ? id_of(b, c->gen_b) : id_of(a, c->gen_a);
+        e->sensor = a_is_sensor ? id_of(w, a, c->gen_a) : id_of(w, b, c->gen_b);
+        e->visitor = a_is_sensor ? id_of(w, b, c->gen_b) : id_of(w, a, c->gen_a);
         return;
     }
     nt_contact_begin_event *e = &w->ev_begin[w->n_begin++];
-    e->a = id_of(a, c->gen_a);
-    e->b = id_of(b, c->gen_b);
+    e->a = id_of(w, a, c->gen_a);
+    e->b = id_of(w, b, c->gen_b);
     e->normal = c->n;
     e->depth = c->depth;
     /* Wake on touch: a sleeping body touched by an awake one. */
@@ -965,8 +966,8 @@ static void hit_event_bodies(nt_world *w, const nt__contact *c, nt_real speed)
     int32_t a = key_a(c->key), b = key_b(c->key);
     if (!((w->bodies[a].flags | w->bodies[b].flags) & NT__BF_HITS)) return;
     nt_hit_event *e = &w->ev_hit[w->n_hit++];
-    e->a = id_of(a, c->gen_a);
-    e->b = id_of(b, c->gen_b);
+    e->a = id_of(w, a, c->gen_a);
+    e->b = id_of(w, b, c->gen_b);
     e->cell_x = e->cell_y = 0;
     e->normal = c->n;
     e->speed = speed;
@@ -1475,7 +1476,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     for (int k = 0; k < b->ntc; k++) b->tc[k].solved = 0;
     if (hit.speed > 0 && hit.speed >= w->def.hit_event_threshold && (b->flags & NT__BF_HITS)) {
         nt_hit_event *e = &w->ev_hit[w->n_hit++];
-        e->a = id_of(i, b->generation);
+        e->a = id_of(w, i, b->generation);
         e->b = nt_null_body_id();
         e->cell_x = hit.cx;
         e->cell_y = hit.cy;

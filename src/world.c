@@ -3,6 +3,7 @@
  * sleeping groups and parked contacts in sleep.c. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <stdatomic.h>
 #include <string.h>
 #include "core.h"
 
@@ -21,7 +22,7 @@ static nt_status check_material(const nt_world_def *def, nt_material m)
 /* The body behind a handle, or NULL. */
 static nt__body *get_body(const nt_world *w, nt_body_id id)
 {
-    if (!w || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
+    if (!w || id.world0 != w->tag || id.index1 <= 0 || id.index1 > w->body_hwm) return NULL;
     nt__body *b = &w->bodies[id.index1 - 1];
     if (!(b->flags & NT__BF_ALIVE) || b->generation != id.generation) return NULL;
     return b;
@@ -31,6 +32,7 @@ static nt_body_id make_id(const nt_world *w, int32_t i)
 {
     nt_body_id id;
     id.index1 = i + 1;
+    id.world0 = w->tag;
     id.generation = w->bodies[i].generation;
     return id;
 }
@@ -150,6 +152,16 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     return NT_OK;
 }
 
+/* The tag a new world puts in its body handles: never 0 (the null handle's), and
+ * different for each of 65,535 worlds made one after another (an atomic counter, so
+ * worlds made on several threads at once get different tags too). */
+static uint16_t next_world_tag(void)
+{
+    static atomic_uint made;
+    unsigned n = atomic_fetch_add(&made, 1u);
+    return (uint16_t)(n % 65535u + 1u);
+}
+
 nt_status nt_world_create(const nt_world_def *def, nt_world **out)
 {
     if (!out) return NT_ERR_INVALID_ARGUMENT;
@@ -166,6 +178,7 @@ nt_status nt_world_create(const nt_world_def *def, nt_world **out)
         return s;
     }
     w->def = *def;
+    w->tag = next_world_tag();
     w->floor_cos = (nt_real)nt_compute_cos_sin((double)def->floor_angle).cosine;
     w->cell = w->map->cell;
     w->inv_cell = w->map->inv_cell;

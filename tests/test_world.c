@@ -264,7 +264,7 @@ static void test_body_def_errors(void **state)
         case 19: d.mass = (nt_real)1.4e-45; break;
         case 20: d.mass = (nt_real)(NT_MAX_MASS * 2); break;
         }
-        nt_body_id id = {7, 7};
+        nt_body_id id = {.index1 = 7, .world0 = 7, .generation = 7};
         assert_int_equal(nt_body_create(w, &d, &id), cases[k].want);
         assert_true(nt_body_id_is_null(id));
         assert_int_equal(nt_world_get_body_count(w), 1);
@@ -306,6 +306,36 @@ static void test_body_def_errors(void **state)
     nt_world_destroy(w);
 }
 
+/* A handle names its world: the same slot and generation in another world is
+ * refused there, and that world is left as it was. */
+static void test_ids_name_their_world(void **state)
+{
+    (void)state;
+    nt_world *w1 = make_world(10, 10, 1), *w2 = make_world(10, 10, 1);
+    nt_body_id a = add_box(w1, 2, 2, R(0.2), R(0.2));
+    nt_body_id b = add_box(w2, 5, 2, R(0.2), R(0.2));
+    assert_int_equal(a.index1, b.index1);
+    assert_true(a.generation == b.generation);
+    assert_true(a.world0 != 0 && b.world0 != 0 && a.world0 != b.world0);
+    assert_false(nt_body_id_equals(a, b));
+    uint64_t h2 = nt_world_hash(w2);
+    assert_false(nt_body_is_valid(w2, a));
+    assert_int_equal(nt_body_set_position(w2, a, nt_v2(1, 1)), NT_ERR_INVALID_ID);
+    assert_int_equal(nt_body_set_velocity(w2, a, nt_v2(1, 1)), NT_ERR_INVALID_ID);
+    assert_int_equal(nt_body_destroy(w2, a), NT_ERR_INVALID_ID);
+    assert_true(nt_body_get_position(w2, a).x == 0);
+    assert_true(nt_world_hash(w2) == h2);
+    assert_int_equal(nt_world_get_body_count(w2), 1);
+    assert_true(nt_body_is_valid(w2, b));
+    assert_true(nt_body_is_valid(w1, a));
+    /* Event and query handles name their world too. */
+    nt_world_ray_hit hit;
+    assert_true(nt_world_raycast(w2, nt_v2(5, 0), nt_v2(5, 4), nt_default_query_filter(), &hit));
+    assert_true(nt_body_id_equals(hit.body, b));
+    nt_world_destroy(w1);
+    nt_world_destroy(w2);
+}
+
 static void test_stale_ids(void **state)
 {
     (void)state;
@@ -333,7 +363,7 @@ static void test_stale_ids(void **state)
     /* Getters give zero values for dead, null and never-issued handles. */
     assert_true(nt_body_get_position(w, a).x == 0);
     assert_true(nt_body_get_mass(w, a) == 0);
-    nt_body_id never = {1000, 1};
+    nt_body_id never = {.index1 = 1000, .world0 = a.world0, .generation = 1};
     assert_false(nt_body_is_valid(w, never));
     assert_false(nt_body_is_valid(w, nt_null_body_id()));
     assert_int_equal(nt_body_destroy(w, never), NT_ERR_INVALID_ID);
@@ -966,6 +996,7 @@ int main(void)
         cmocka_unit_test(test_step_errors),
         cmocka_unit_test(test_body_create_and_read_back),
         cmocka_unit_test(test_body_def_errors),
+        cmocka_unit_test(test_ids_name_their_world),
         cmocka_unit_test(test_stale_ids),
         cmocka_unit_test(test_many_bodies),
         cmocka_unit_test(test_allocator_hook),

@@ -63,9 +63,12 @@ extern "C" {
 
 typedef struct nt_world nt_world;
 
-/// A body handle. The zero value is the null handle.
+/// A body handle, naming its world as well as the body: a handle used with another
+/// world than its own is refused (NT_ERR_INVALID_ID, false, zero), as is a handle of a
+/// destroyed body. The zero value is the null handle.
 typedef struct nt_body_id {
     int32_t index1;      ///< body slot + 1; 0 for the null handle
+    uint16_t world0;     ///< the tag of the world that made it (never 0 for a body)
     uint32_t generation; ///< bumped each time the slot is reused
 } nt_body_id;
 
@@ -74,6 +77,7 @@ static inline nt_body_id nt_null_body_id(void)
 {
     nt_body_id id;
     id.index1 = 0;
+    id.world0 = 0;
     id.generation = 0;
     return id;
 }
@@ -84,7 +88,7 @@ static inline bool nt_body_id_is_null(nt_body_id id) { return id.index1 == 0; }
 /// True when two handles name the same body.
 static inline bool nt_body_id_equals(nt_body_id a, nt_body_id b)
 {
-    return a.index1 == b.index1 && a.generation == b.generation;
+    return a.index1 == b.index1 && a.world0 == b.world0 && a.generation == b.generation;
 }
 
 /// How a body moves.
