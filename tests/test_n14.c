@@ -137,10 +137,10 @@ static void test_objects(void **state)
     /* gold: static sensors with a score; the mine: a deadly sensor; the block: dynamic */
     assert_int_equal(lv->body_count, 4);
     const nt_level_body *g = &lv->bodies[nt_level_find_body(lv, "gold2")];
-    assert_true(g->type == NT_BODY_STATIC && g->is_sensor && g->score == 1 && !g->deadly);
+    assert_true(g->type == NT_BODY_STATIC && g->sensor && g->score == 1 && !g->deadly);
     assert_true(g->shape.type == NT_SHAPE_CIRCLE && g->shape.half.x == 6 && g->position.x == 132);
     const nt_level_body *m = &lv->bodies[nt_level_find_body(lv, "mine1")];
-    assert_true(m->is_sensor && m->deadly && m->score == 0 && m->shape.half.x == 4);
+    assert_true(m->sensor && m->deadly && m->score == 0 && m->shape.half.x == 4);
     const nt_level_body *b = &lv->bodies[nt_level_find_body(lv, "block1")];
     assert_true(b->type == NT_BODY_DYNAMIC && b->shape.type == NT_SHAPE_AABB && b->shape.half.x == (nt_real)9.6);
     /* the exit door: a one-cell exit region; its switch a zone */
