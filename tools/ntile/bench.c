@@ -217,6 +217,12 @@ static int option_number(int argc, char **argv, int *i, double lo, double hi, do
 
 int cli_bench(int argc, char **argv)
 {
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            printf("usage:\n");
+            cli_bench_usage(stdout);
+            return CLI_OK;
+        }
     if (argc < 2) {
         fprintf(stderr, "ntile bench: missing benchmark name\n");
         return bench_usage_error();
