@@ -1038,6 +1038,46 @@ static void test_bench_narrow(void **state)
     run_free(&r);
 }
 
+/* `bench world` on two quick scenes: a progress line per scene on stderr, the narrow
+ * table with a PASS/FAIL per check, the phase rows only with --profile, every error
+ * column with --wide. */
+static void test_bench_world_table(void **state)
+{
+    (void)state;
+    const char *a1[] = {"bench", "world", "bounce", "flight", "--runs", "1", "--min-ms", "0", NULL};
+    run_result r;
+    run_cli(&r, NULL, a1);
+    assert_int_equal(r.status, 0);
+    if (!strstr(r.err, "ntile bench world: [1/2] bounce ...\n") || !strstr(r.err, "ntile bench world: [2/2] flight ...\n"))
+        fail_msg("no progress lines on stderr: '%s'", r.err);
+    int header = 0, apex = 0, path = 0;
+    for (size_t i = 0; i < r.nlines; i++) {
+        const char *l = r.lines[i];
+        if (strlen(l) > 100) fail_msg("line wider than 100 columns: '%s'", l);
+        if (strstr(l, "phases, ns/body-step")) fail_msg("phase rows without --profile: '%s'", l);
+        header |= strncmp(l, "scene ", 6) == 0 && strstr(l, "check") && strstr(l, "result") != NULL;
+        if (strstr(l, "apex error")) {
+            apex = 1;
+            if (!strstr(l, "<= 0.05") || (!strstr(l, "PASS") && !strstr(l, "FAIL"))) fail_msg("apex row: '%s'", l);
+        }
+        if (strstr(l, "path error")) {
+            path = 1;
+            if (!strstr(l, "<= 0.0001") || (!strstr(l, "PASS") && !strstr(l, "FAIL"))) fail_msg("path row: '%s'", l);
+        }
+    }
+    if (!header || !apex || !path) fail_msg("missing header (%d), apex (%d) or path (%d) row in:\n%s", header, apex, path, r.out);
+    if (!strstr(r.out, "bounce ") || !strstr(r.out, "body-steps inside nt_world_step: ")) fail_msg("%s", r.out);
+    if (!strstr(r.out, "\n# checks: ")) fail_msg("no checks summary in:\n%s", r.out);
+    run_free(&r);
+    const char *a2[] = {"bench", "world", "bounce", "--runs", "1", "--min-ms", "0", "--profile", "--wide", NULL};
+    run_cli(&r, NULL, a2);
+    assert_int_equal(r.status, 0);
+    if (!strstr(r.out, "#  bounce           phases, ns/body-step: pairs ")) fail_msg("no phase row with --profile:\n%s", r.out);
+    if (!strstr(r.out, "# pen: deepest penetration") || !strstr(r.out, "analytic")) fail_msg("no wide table:\n%s", r.out);
+    if (!strstr(r.out, "apex error") || !strstr(r.out, "PASS")) fail_msg("no checks with --wide:\n%s", r.out);
+    run_free(&r);
+}
+
 /* `bench world` argument errors (the scenes themselves take seconds: not run here). */
 static void test_bench_world_usage(void **state)
 {
@@ -1090,6 +1130,7 @@ int main(void)
         cmocka_unit_test(test_random_bytes),
         cmocka_unit_test(test_demo_file),
         cmocka_unit_test(test_bench_narrow),
+        cmocka_unit_test(test_bench_world_table),
         cmocka_unit_test(test_bench_world_usage),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
