@@ -618,7 +618,7 @@ static void test_convert(void **state)
     run_cli(&r, conv);
     expect_status(&r, 0);
     char want[5000];
-    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 is not supported; skipped\n", scratch_dir());
+    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 (gauss turret) is not supported; skipped\n", scratch_dir());
     expect_in(r.err, want);
     snprintf(want, sizeof want, "holds 2 levels; converted the first (choose one with --index N)\n");
     expect_in(r.err, want);

@@ -50,7 +50,8 @@ typedef enum nt_region_kind {
     NT_REGION_ZONE = 0,  ///< a named area, for expectations
     NT_REGION_EXIT = 1,  ///< the player's centre inside: level complete
     NT_REGION_SCORE = 2, ///< a body's centre inside: score += value once, the body is removed
-    NT_REGION_KILL = 3   ///< the player's centre inside: dead; other dynamic bodies are removed
+    NT_REGION_KILL = 3,  ///< the player's centre inside: dead; other dynamic bodies are removed
+    NT_REGION_SWITCH = 4 ///< the player's centre inside: the switch is on (for good); it opens exits and doors
 } nt_region_kind;
 
 /// A named axis-aligned area, lo..hi in world units.
@@ -59,7 +60,16 @@ typedef struct nt_level_region {
     nt_region_kind kind;
     nt_vec2 lo, hi;
     int value; ///< score regions: points per body
+    int needs; ///< exit regions: 1 + index of the switch region that opens it (0: open from the start)
 } nt_level_region;
+
+/// What a door body does (nt_level_body.door). Doors are solid static or kinematic bodies.
+typedef enum nt_door_kind {
+    NT_DOOR_NONE = 0,   ///< not a door
+    NT_DOOR_PLAIN = 1,  ///< opens (goes away) when the player touches it
+    NT_DOOR_LOCKED = 2, ///< solid until its switch is on, then goes away
+    NT_DOOR_TRAP = 3    ///< open (collides with nothing) until its switch is on, then solid
+} nt_door_kind;
 
 /// How a kinematic body follows its path.
 typedef enum nt_path_mode {
@@ -103,6 +113,8 @@ typedef struct nt_level_body {
     bool is_template; ///< not created with the level; spawners copy it
     int repeat_x, repeat_y; ///< instances in a grid (1 x 1 = one body)
     nt_vec2 repeat_step;    ///< spacing of the grid
+    nt_door_kind door;      ///< a door of the game layer (static or kinematic, not a sensor or template)
+    int door_switch;        ///< NT_DOOR_LOCKED, NT_DOOR_TRAP: 1 + index of the switch region (0 otherwise)
 } nt_level_body;
 
 /// When a spawner creates a body.

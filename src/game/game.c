@@ -169,6 +169,7 @@ void nt_game_destroy(nt_game *g)
     nt_free(g->touched);
     free(g->level_first);
     free(g->spawn_counts);
+    free(g->switch_on);
     free(g);
 }
 
@@ -268,8 +269,18 @@ nt_status nt_game_create(const nt_level *lv, const nt_game_def *def, nt_game **o
             s = add_record(g, pid, GB_PLAYER, -1);
         }
     }
-    for (int i = 0; i < lv->region_count; i++)
+    for (int i = 0; i < lv->region_count; i++) {
         if (lv->regions[i].kind == NT_REGION_SCORE || lv->regions[i].kind == NT_REGION_KILL) g->has_score_or_kill = true;
+        if (lv->regions[i].kind == NT_REGION_SWITCH && !g->switch_on && s == NT_OK) {
+            g->switch_on = calloc((size_t)lv->region_count, sizeof *g->switch_on);
+            if (!g->switch_on) s = NT_ERR_OUT_OF_MEMORY;
+        }
+    }
+    /* Trap doors start open: they collide with nothing until their switch is on. */
+    for (int i = 0; s == NT_OK && i < g->body_count; i++) {
+        const game_body *b = &g->bodies[i];
+        if (b->source == GB_LEVEL && lv->bodies[b->level_body].door == NT_DOOR_TRAP) s = nt_body_set_filter(g->world, b->id, 0, 0);
+    }
     if (s != NT_OK) {
         nt_game_destroy(g);
         return s;
@@ -367,6 +378,11 @@ nt_status nt_game_set_tile(nt_game *g, int x, int y, int tile)
     return nt_world_set_tile(g->world, x, y, tile);
 }
 
+bool nt_game_switch_is_on(const nt_game *g, int region)
+{
+    return g && g->switch_on && region >= 0 && region < g->level->region_count && g->switch_on[region];
+}
+
 static bool point_in_region(const nt_level_region *r, nt_vec2 p)
 {
     return p.x >= r->lo.x && p.x <= r->hi.x && p.y >= r->lo.y && p.y <= r->hi.y;
@@ -422,6 +438,8 @@ uint64_t nt_game_hash(const nt_game *g)
     }
     h = mix(h, g->rng.state);
     for (int i = 0; i < g->level->spawner_count; i++) h = mix(h, (uint64_t)(uint32_t)g->spawn_counts[i]);
+    if (g->switch_on) /* only levels with switches: the hashes of the others stay as they were */
+        for (int i = 0; i < g->level->region_count; i++) h = mix(h, (uint64_t)g->switch_on[i]);
     return h;
 }
 
@@ -553,11 +571,29 @@ static void apply_events(nt_game *g)
         game_body *b = nt__game_record(g, touched[i]);
         const nt_level_body *lb = level_body_of(g, b);
         if (!lb) continue;
+        if (lb->door == NT_DOOR_PLAIN && !g->dead) {
+            remove_body(g, b); /* a plain door opens at the player's touch */
+            continue;
+        }
         if (lb->deadly && !g->dead) kill_player(g);
         if (lb->score > 0 && !g->dead) {
             g->score += lb->score;
             remove_body(g, b);
         }
+    }
+}
+
+/* Switch r goes on: its locked doors go away, its trap doors become solid (no
+ * allocation: nothing here can fail). */
+static void turn_switch_on(nt_game *g, int r)
+{
+    g->switch_on[r] = true;
+    for (int i = 0; i < g->body_count; i++) {
+        game_body *b = &g->bodies[i];
+        const nt_level_body *lb = level_body_of(g, b);
+        if (!b->alive || b->source != GB_LEVEL || !lb || lb->door_switch != r + 1) continue;
+        if (lb->door == NT_DOOR_LOCKED) remove_body(g, b);
+        else if (lb->door == NT_DOOR_TRAP) nt_body_set_filter(g->world, b->id, lb->category, lb->mask);
     }
 }
 
@@ -570,7 +606,9 @@ static void apply_regions(nt_game *g)
         for (int r = 0; r < lv->region_count; r++) {
             const nt_level_region *rg = &lv->regions[r];
             if (!point_in_region(rg, p)) continue;
-            if (rg->kind == NT_REGION_EXIT && !g->complete) {
+            if (rg->kind == NT_REGION_SWITCH && !g->switch_on[r]) {
+                turn_switch_on(g, r);
+            } else if (rg->kind == NT_REGION_EXIT && !g->complete && (rg->needs == 0 || g->switch_on[rg->needs - 1])) {
                 g->complete = true;
                 g->complete_tick = g->tick;
             } else if (rg->kind == NT_REGION_KILL) {
