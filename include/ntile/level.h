@@ -227,9 +227,11 @@ typedef void nt_warning_fn(const char *message, void *context);
 /// Import level number `index` (0-based: the index-th line that holds a level) of an N
 /// v1.4 text: `$name#author##TILES|OBJECTS#`, 713 tile characters stored column by
 /// column. Gives a 33 x 25 level of cell 24 with the one-cell FULL border, the player
-/// spawn, the exit door (region "exit"), gold (score sensors), mines (deadly sensors),
-/// one-way platforms, bounce blocks (dynamic boxes) and launch pads (bouncy cells).
-/// Unknown or unsupported objects are skipped with a warning. *count (may be NULL)
+/// spawn, the exit door (region "exit" that needs its switch region "exitswitch"),
+/// doors (plain, locked and trap doors with their switches), gold (score sensors),
+/// mines (deadly sensors), one-way platforms facing up, bounce blocks (dynamic boxes)
+/// and launch pads (bouncy cells). Unknown or unsupported objects are skipped with a
+/// warning that names them. *count (may be NULL)
 /// receives the number of levels in the text.
 nt_status nt_level_import_n14(const char *name, const char *text, size_t length, int index, nt_level **out,
                               int *count, nt_text_error *error, nt_warning_fn *warn, void *context);
