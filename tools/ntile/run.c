@@ -487,6 +487,11 @@ static int run_parallel(char **files, int n, int jobs, int record_hashes, replay
                 replay_result r;
                 run_file(files[next], record_hashes, &r);
                 wire_send(pfd[1], &r);
+                result_free(&r);
+                for (int o = 0; o < n; o++) result_free(&res[o]);
+                for (int o = 0; o < jobs; o++) free(ws[o].in.p);
+                free(ws);
+                free(have);
                 _exit(0);
             }
             close(pfd[1]);
