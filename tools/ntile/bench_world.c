@@ -127,7 +127,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
         for (int i = 0; i < nargs; i++) wanted |= strcmp(args[i], all[k]) == 0;
         total += wanted;
     }
-    printf("# ntile bench world: dt 1/40 s, %s, median of %d runs; scenes are described in tools/ntile/scene.c\n",
+    printf("# ntile bench world: dt 1/40 s, %s, median of %d runs (the scenes: tools/ntile/scene.c)\n",
            SCALAR_NAME, opts->runs);
     if (opts->wide) {
         bench_print_legend();
