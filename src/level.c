@@ -284,6 +284,9 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
         return "a door is a solid static or kinematic body, not a template";
     if ((b->door == NT_DOOR_LOCKED || b->door == NT_DOOR_TRAP) != (b->door_switch != 0)) return "a locked or trap door (only) names its switch";
     if (b->door_switch != 0 && !is_switch(lv, b->door_switch)) return "the door's switch is not a switch region";
+    if (b->one_way < NT_ONE_WAY_NONE || b->one_way > NT_ONE_WAY_UP) return "unknown one-way side";
+    if (b->one_way != NT_ONE_WAY_NONE && (b->type == NT_BODY_DYNAMIC || b->sensor || b->is_template || b->door != NT_DOOR_NONE))
+        return "a one-way body is a solid static or kinematic body, not a door or a template";
     return NULL;
 }
 
@@ -1042,10 +1045,10 @@ static nt_status parse_body(parser *P)
     static const char *const opts[] = {"vel",   "mass",   "material", "drag",     "gravity-scale", "category",
                                        "mask",  "sensor", "no-sleep", "asleep",   "path",          "phase",
                                        "score", "deadly", "template", "repeat",   "door",          "opened-by",
-                                       "closed-by"};
-    static const int nargs[] = {2, 1, 2, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 4, 0, 1, 1};
+                                       "closed-by", "one-way"};
+    static const int nargs[] = {2, 1, 2, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 4, 0, 1, 1, 1};
     enum { O_VEL, O_MASS, O_MATERIAL, O_DRAG, O_GSCALE, O_CATEGORY, O_MASK, O_SENSOR, O_NOSLEEP, O_ASLEEP, O_PATH, O_PHASE,
-           O_SCORE, O_DEADLY, O_TEMPLATE, O_REPEAT, O_DOOR, O_OPENED_BY, O_CLOSED_BY, O_COUNT };
+           O_SCORE, O_DEADLY, O_TEMPLATE, O_REPEAT, O_DOOR, O_OPENED_BY, O_CLOSED_BY, O_ONE_WAY, O_COUNT };
     int seen[O_COUNT] = {0};
     int material_col = 0, repeat_col = 0;
     while (i < t->nf) {
@@ -1056,7 +1059,7 @@ static nt_status parse_body(parser *P)
             return nt__fail_col(t, t->f[i].col,
                                 "unknown body option '%s' (expected vel, mass, material, drag, gravity-scale, category, mask, "
                                 "sensor, no-sleep, asleep, path, phase, score, deadly, template, repeat, door, "
-                                "opened-by or closed-by)",
+                                "opened-by, closed-by or one-way)",
                                 nt__quote(q, t->f[i].s, t->f[i].n));
         if (seen[o]) return nt__fail_col(t, t->f[i].col, "duplicate body option '%s'", opts[o]);
         seen[o] = t->f[i].col;
@@ -1114,6 +1117,15 @@ static nt_status parse_body(parser *P)
             b.door = o == O_DOOR ? NT_DOOR_PLAIN : o == O_OPENED_BY ? NT_DOOR_LOCKED : NT_DOOR_TRAP;
             if (o != O_DOOR) s = switch_at(P, a, &b.door_switch);
             break;
+        case O_ONE_WAY: {
+            static const char *const sides[4] = {"right", "down", "left", "up"};
+            for (int k = 0; k < 4; k++)
+                if (nt__field_is(&t->f[a], sides[k])) b.one_way = (nt_one_way_side)(k + 1);
+            if (b.one_way == NT_ONE_WAY_NONE)
+                s = nt__fail_col(t, t->f[a].col, "unknown one-way side '%s' (expected right, down, left or up)",
+                                 nt__quote(q, t->f[a].s, t->f[a].n));
+            break;
+        }
         case O_REPEAT: {
             long long nx, ny;
             repeat_col = t->f[i].col;
@@ -1134,6 +1146,9 @@ static nt_status parse_body(parser *P)
     if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, seen[O_PHASE], "'phase' needs 'path'");
     if (b.score > 0 && !b.sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
     if (b.is_template && (b.repeat_x > 1 || b.repeat_y > 1)) return nt__fail_col(t, repeat_col, "a template cannot repeat");
+    if (b.one_way != NT_ONE_WAY_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template || b.door != NT_DOOR_NONE))
+        return nt__fail_col(t, seen[O_ONE_WAY],
+                            "a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
     if (b.door != NT_DOOR_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template)) {
         int col = seen[O_DOOR] ? seen[O_DOOR] : seen[O_OPENED_BY] ? seen[O_OPENED_BY] : seen[O_CLOSED_BY];
         return nt__fail_col(t, col, "a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
@@ -1439,6 +1454,8 @@ static void put_body(nt__sink *o, const nt_level *lv, const nt_level_body *b)
     if (b->door == NT_DOOR_PLAIN) nt__sink_puts(o, " door");
     else if (b->door == NT_DOOR_LOCKED) nt__sink_printf(o, " opened-by %s", lv->regions[b->door_switch - 1].name);
     else if (b->door == NT_DOOR_TRAP) nt__sink_printf(o, " closed-by %s", lv->regions[b->door_switch - 1].name);
+    static const char *const sides[5] = {"", "right", "down", "left", "up"};
+    if (b->one_way > NT_ONE_WAY_NONE && b->one_way <= NT_ONE_WAY_UP) nt__sink_printf(o, " one-way %s", sides[b->one_way]);
     nt__sink_puts(o, "\n");
 }
 

@@ -12,8 +12,9 @@
  *   2 launch pad     (x, y, nx, ny): the tile behind the pad gets material 1 (bounce 1)
  *   5 player spawn   the level's player
  *   7 one-way        (x, y, dir): dir 3 (facing up, N's 0 right 1 down 2 left 3 up) ->
- *                    a HALFu tile with the one-way flag; other directions are not
- *                    supported by one-way cells and are skipped with a warning
+ *                    a HALFu tile with the one-way flag; the other directions -> a
+ *                    static box over the half of the cell on that side, a one-way
+ *                    body of the game layer (nt_level_body.one_way)
  *   9 door           (sx, sy, trap, locked, cx, cy, vertical, ox, oy): a static box a
  *                    cell long and a quarter cell thick through the centre of cell
  *                    (cx + ox, cy + oy) of the 33 x 25 grid, upright when `vertical` is
@@ -206,16 +207,21 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
             warn_at(im, col, "one-way platform with direction %g (expected 0..3); skipped", (double)v[2]);
             return NT_OK;
         }
-        if (dir != 3) {
-            warn_at(im, col, "one-way platform facing %s is not supported (ntile's one-way cells and bodies stop bodies "
-                    "from above only); skipped", dirs[dir]);
-            return NT_OK;
-        }
         int cx = cell_of(pos.x), cy = cell_of(pos.y);
         size_t k = (size_t)cy * (size_t)lv->width + (size_t)cx;
         if (!in_map(lv, cx, cy) || lv->tiles[k] != NT_TILE_EMPTY) {
-            warn_at(im, col, "one-way platform at %g,%g is not in an empty cell; skipped", (double)pos.x, (double)pos.y);
+            warn_at(im, col, "one-way platform facing %s at %g,%g is not in an empty cell; skipped", dirs[dir],
+                    (double)pos.x, (double)pos.y);
             return NT_OK;
+        }
+        if (dir != 3) { /* the half of the cell on its side: a one-way body of the game layer */
+            static const nt_one_way_side sides[3] = {NT_ONE_WAY_RIGHT, NT_ONE_WAY_DOWN, NT_ONE_WAY_LEFT};
+            static const int ox[3] = {18, 12, 6}, oy[3] = {12, 18, 12};
+            b.type = NT_BODY_STATIC;
+            b.position = nt_v2((nt_real)(cx * N14_CELL + ox[dir]), (nt_real)(cy * N14_CELL + oy[dir]));
+            b.shape = dir == 1 ? nt_shape_aabb(N14_CELL / 2, N14_CELL / 4) : nt_shape_aabb(N14_CELL / 4, N14_CELL / 2);
+            b.one_way = sides[dir];
+            return add_body(im, "oneway", 7, &b, col);
         }
         lv->tiles[k] = NT_TILE_HALFu;
         lv->cell_flags[k] = NT_CELL_ONE_WAY;

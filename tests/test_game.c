@@ -664,6 +664,38 @@ static void test_doors(void **state)
     nt_level_destroy(lv);
 }
 
+/* One-way bodies of the game layer facing right and left: passable from behind, solid
+ * to a player wholly on the side they face. */
+static void test_one_way_sides(void **state)
+{
+    (void)state;
+    static const char right[] = CORRIDOR "player 40 86\nbody w static box 6 36 at 150 60 one-way right\n";
+    nt_level *lv = level_from(right);
+    nt_game *g = game_from(lv, NULL);
+    assert_true(run_until(g, NT_INPUT_RIGHT, 200, 1, 200) < 200); /* through it from behind */
+    steps(g, NT_INPUT_LEFT, 80);
+    assert_true((double)ppos(g).x >= 156 + 10 - 0.5); /* stopped on its face */
+    assert_true((double)ppos(g).x < 175);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    static const char left[] = CORRIDOR "player 40 86\nbody w static box 6 36 at 150 60 one-way left\n";
+    lv = level_from(left);
+    g = game_from(lv, NULL);
+    steps(g, NT_INPUT_RIGHT, 80);
+    assert_true((double)ppos(g).x <= 144 - 10 + 0.5); /* stopped on its face */
+    assert_true((double)ppos(g).x > 120);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+    /* From the other side the left-facing one lets the player through. */
+    static const char left2[] = CORRIDOR "player 230 86\nbody w static box 6 36 at 150 60 one-way left\n";
+    lv = level_from(left2);
+    g = game_from(lv, NULL);
+    assert_true(run_until(g, NT_INPUT_LEFT, 100, -1, 200) < 200);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
 /* Bodies and tiles changed through the game: added bodies count as the game's, bad
  * input changes nothing, the player cannot be removed, tile edits act at once. */
 static void test_changes_through_the_game(void **state)
@@ -1183,6 +1215,7 @@ int main(void)
         cmocka_unit_test(test_game_errors),
         cmocka_unit_test(test_exit_switch),
         cmocka_unit_test(test_doors),
+        cmocka_unit_test(test_one_way_sides),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -349,7 +349,7 @@ static void test_body_errors(void **state)
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 nan\n", "t.ntl:6:30: y 'nan' is not a finite number");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 spin 3\n",
                 "t.ntl:6:32: unknown body option 'spin' (expected vel, mass, material, drag, gravity-scale, category, mask, "
-                "sensor, no-sleep, asleep, path, phase, score, deadly, template, repeat, door, opened-by or closed-by)");
+                "sensor, no-sleep, asleep, path, phase, score, deadly, template, repeat, door, opened-by, closed-by or one-way)");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1 mass 2\n", "t.ntl:6:39: duplicate body option 'mass'");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 0\n", "t.ntl:6:37: mass '0' must be > 0");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1e-40\n", "t.ntl:6:37: mass '1e-40' is outside 1e-12 .. 1e12");
@@ -560,7 +560,8 @@ static void test_switches_and_doors(void **state)
                                          "region out exit 40 0 50 10 needs sw2\n"
                                          "body a static box 2 10 at 12 12 opened-by sw\n"
                                          "body b kinematic box 2 10 at 30 12 closed-by sw2\n"
-                                         "body c static box 2 10 at 50 12 door\n";
+                                         "body c static box 2 10 at 50 12 door\n"
+                                         "body d static box 6 12 at 60 12 one-way right\nbody e kinematic box 6 12 at 60 12 one-way up\n";
     nt_level *lv = parse_ok(text);
     assert_int_equal(lv->regions[0].kind, NT_REGION_SWITCH);
     assert_int_equal(lv->regions[2].kind, NT_REGION_EXIT);
@@ -569,9 +570,12 @@ static void test_switches_and_doors(void **state)
     assert_true(lv->bodies[0].door == NT_DOOR_LOCKED && lv->bodies[0].door_switch == 1);
     assert_true(lv->bodies[1].door == NT_DOOR_TRAP && lv->bodies[1].door_switch == 2);
     assert_true(lv->bodies[2].door == NT_DOOR_PLAIN && lv->bodies[2].door_switch == 0);
+    assert_true(lv->bodies[3].one_way == NT_ONE_WAY_RIGHT && lv->bodies[4].one_way == NT_ONE_WAY_UP);
+    assert_true(lv->bodies[0].one_way == NT_ONE_WAY_NONE);
     char *out = write_level(lv);
     if (!strstr(out, "region sw switch 0 0 10 10\n") || !strstr(out, "region out exit 40 0 50 10 needs sw2\n") ||
-        !strstr(out, " opened-by sw\n") || !strstr(out, " closed-by sw2\n") || !strstr(out, " door\n"))
+        !strstr(out, " opened-by sw\n") || !strstr(out, " closed-by sw2\n") || !strstr(out, " door\n") ||
+        !strstr(out, " one-way right\n") || !strstr(out, " one-way up\n"))
         fail_msg("canonical text:\n%s", out);
     free(out);
     nt_level_destroy(lv);
@@ -592,6 +596,13 @@ static void test_switches_and_doors(void **state)
                 "t.ntl:6:37: a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
     parse_fails(HEAD GRID "region sw switch 0 0 1 1\nbody d static box 2 2 at 5 5 door opened-by sw\n",
                 "t.ntl:7:35: a door is one of 'door', 'opened-by SWITCH' or 'closed-by SWITCH'");
+
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 one-way sideways\n",
+                "t.ntl:6:38: unknown one-way side 'sideways' (expected right, down, left or up)");
+    parse_fails(HEAD GRID "body d dynamic box 2 2 at 5 5 one-way up\n",
+                "t.ntl:6:31: a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 door one-way up\n",
+                "t.ntl:6:35: a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
 
     /* The API checks the same. */
     lv = parse_ok(HEAD GRID "region sw switch 0 0 1 1\nregion r exit 0 0 1 1\nbody d static box 2 2 at 5 5\n");

@@ -134,8 +134,9 @@ static void test_objects(void **state)
     const char *text = level_string("objects", t, objects);
     nt_level *lv = import_ok(text, 0, &w);
     assert_true(lv->has_player && lv->player.x == 60 && lv->player.y == 516);
-    /* gold: static sensors with a score; the mine: a deadly sensor; the block: dynamic; the locked door */
-    assert_int_equal(lv->body_count, 5);
+    /* gold: static sensors with a score; the mine: a deadly sensor; the block: dynamic; the locked door;
+     * the one-way platform facing right */
+    assert_int_equal(lv->body_count, 6);
     const nt_level_body *g = &lv->bodies[nt_level_find_body(lv, "gold2")];
     assert_true(g->type == NT_BODY_STATIC && g->sensor && g->score == 1 && !g->deadly);
     assert_true(g->shape.type == NT_SHAPE_CIRCLE && g->shape.half.x == 6 && g->position.x == 132);
@@ -162,22 +163,22 @@ static void test_objects(void **state)
     assert_int_equal(tile_at(lv, 13, 9), NT_TILE_HALFu);
     assert_int_equal(lv->cell_flags[9 * 33 + 13], NT_CELL_ONE_WAY);
     assert_int_equal(tile_at(lv, 1, 2), NT_TILE_HALFu);
-    assert_int_equal(tile_at(lv, 12, 9), NT_TILE_EMPTY); /* the one facing right was skipped */
+    assert_int_equal(tile_at(lv, 12, 9), NT_TILE_EMPTY); /* the one facing right is a body over the cell's right half */
+    const nt_level_body *ow = &lv->bodies[nt_level_find_body(lv, "oneway1")];
+    assert_true(ow->type == NT_BODY_STATIC && ow->one_way == NT_ONE_WAY_RIGHT && !ow->sensor);
+    assert_true(ow->position.x == 12 * 24 + 18 && ow->position.y == 9 * 24 + 12 && ow->shape.half.x == 6 && ow->shape.half.y == 12);
     /* launch pads: the cell behind gets material 1, which bounces fully */
     assert_int_equal(lv->cell_materials[24 * 33 + 1], 1);  /* floor pad at (36, 576): border cell (1, 24) */
     assert_int_equal(lv->cell_materials[9 * 33 + 8], 1);   /* diagonal pad: behind it, cell (8, 9) */
     assert_true(lv->materials[1].bounce == 1);
-    assert_int_equal(w.count, 3);
+    assert_int_equal(w.count, 2);
     /* Warnings name the object's column in the line. */
-    char want[3][256];
-    const char *at_right = strstr(text, "7^300");
+    char want[2][256];
     const char *at_pad = strstr(text, "2^400");
     const char *at_5 = strstr(text, "5^100");
-    snprintf(want[0], 256, "t.n:1:%d: warning: one-way platform facing right is not supported (ntile's one-way cells and "
-                           "bodies stop bodies from above only); skipped", (int)(at_right - text) + 1);
-    snprintf(want[1], 256, "t.n:1:%d: warning: launch pad at 400,300 has no tile behind it; skipped", (int)(at_pad - text) + 1);
-    snprintf(want[2], 256, "t.n:1:%d: warning: a second player spawn at 100,100; skipped", (int)(at_5 - text) + 1);
-    for (int i = 0; i < 3; i++) assert_string_equal(w.text[i], want[i]);
+    snprintf(want[0], 256, "t.n:1:%d: warning: launch pad at 400,300 has no tile behind it; skipped", (int)(at_pad - text) + 1);
+    snprintf(want[1], 256, "t.n:1:%d: warning: a second player spawn at 100,100; skipped", (int)(at_5 - text) + 1);
+    for (int i = 0; i < 2; i++) assert_string_equal(w.text[i], want[i]);
     assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
     /* The import writes and reads back as any level. */
     size_t n = nt_level_write(lv, NULL, 0);
@@ -187,7 +188,8 @@ static void test_objects(void **state)
     assert_int_equal(nt_level_parse("out.ntl", out, n, &back, NULL), NT_OK);
     assert_memory_equal(back->tiles, lv->tiles, 33 * 25);
     assert_memory_equal(back->cell_flags, lv->cell_flags, 33 * 25);
-    assert_int_equal(back->body_count, 5);
+    assert_int_equal(back->body_count, 6);
+    assert_int_equal(back->bodies[nt_level_find_body(back, "oneway1")].one_way, NT_ONE_WAY_RIGHT);
     assert_int_equal(back->regions[ex].needs, sw + 1);
     assert_int_equal(back->bodies[nt_level_find_body(back, "lockeddoor1")].door, NT_DOOR_LOCKED);
     nt_level_destroy(back);
@@ -202,7 +204,8 @@ static void test_object_names_and_doors(void **state)
     char t[COLS * ROWS + 1];
     blank_tiles(t);
     const char *objects = "3^100,100!4^100,100,1!6^100,100,0,0,0,0!8^100,100,1!10^100,100!13^1,1!"
-                          "9^84,324,1,0,10,14,1,0,0!9^204,204,0,0,1,14,1,0,0!9^84,324,1,1,5,5,1,0,0!9^84,324,0,1,40,5,1,0,0";
+                          "9^84,324,1,0,10,14,1,0,0!9^204,204,0,0,1,14,1,0,0!9^84,324,1,1,5,5,1,0,0!9^84,324,0,1,40,5,1,0,0!"
+                          "7^60,420,1!7^84,420,2!7^12,12,0";
     warnings w = {0};
     const char *text = level_string("names", t, objects);
     nt_level *lv = import_ok(text, 0, &w);
@@ -215,9 +218,10 @@ static void test_object_names_and_doors(void **state)
         "N object type 13 is not an N object; skipped",
         "door at cell 5,5 is both a trap door and a locked door; skipped",
         "door in cell 40,5 lies outside the level; skipped",
+        "one-way platform facing right at 12,12 is not in an empty cell; skipped",
     };
-    assert_int_equal(w.count, 8);
-    for (int i = 0; i < 8; i++) {
+    assert_int_equal(w.count, 9);
+    for (int i = 0; i < 9; i++) {
         const char *tail = strstr(w.text[i], ": warning: ");
         if (!tail || strcmp(tail + 11, want[i]) != 0) fail_msg("warning %d: '%s', expected '...: warning: %s'", i, w.text[i], want[i]);
     }
@@ -230,7 +234,13 @@ static void test_object_names_and_doors(void **state)
     assert_true(trap->shape.half.x == 3 && trap->shape.half.y == 12);
     const nt_level_body *plain = &lv->bodies[nt_level_find_body(lv, "door1")];
     assert_true(plain->door == NT_DOOR_PLAIN && plain->door_switch == 0 && plain->position.x == 36);
-    assert_int_equal(lv->body_count, 2);
+    /* One-way platforms facing down and left: the bottom and the left half of their cells. */
+    const nt_level_body *down = &lv->bodies[nt_level_find_body(lv, "oneway1")];
+    const nt_level_body *leftw = &lv->bodies[nt_level_find_body(lv, "oneway2")];
+    assert_true(down->one_way == NT_ONE_WAY_DOWN && down->position.x == 2 * 24 + 12 && down->position.y == 17 * 24 + 18);
+    assert_true(down->shape.half.x == 12 && down->shape.half.y == 6);
+    assert_true(leftw->one_way == NT_ONE_WAY_LEFT && leftw->position.x == 3 * 24 + 6 && leftw->position.y == 17 * 24 + 12);
+    assert_int_equal(lv->body_count, 4);
     assert_int_equal(lv->region_count, 1);
     assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
     nt_level_destroy(lv);

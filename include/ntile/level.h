@@ -90,6 +90,15 @@ typedef struct nt_level_path {
     nt_real radius;                           ///< ORBIT, > 0
 } nt_level_path;
 
+/// The side a one-way body of the game layer stops the player from (nt_level_body.one_way).
+typedef enum nt_one_way_side {
+    NT_ONE_WAY_NONE = 0,  ///< an ordinary body
+    NT_ONE_WAY_RIGHT = 1, ///< solid to a player wholly to its right, passable from elsewhere
+    NT_ONE_WAY_DOWN = 2,  ///< solid to a player wholly below it
+    NT_ONE_WAY_LEFT = 3,  ///< solid to a player wholly to its left
+    NT_ONE_WAY_UP = 4     ///< solid to a player wholly above it
+} nt_one_way_side;
+
 /// A body of the level (or, with repeat_x * repeat_y > 1, a grid of identical ones).
 typedef struct nt_level_body {
     char name[NT_LEVEL_NAME_MAX];
@@ -115,6 +124,9 @@ typedef struct nt_level_body {
     nt_vec2 repeat_step;    ///< spacing of the grid
     nt_door_kind door;      ///< a door of the game layer (static or kinematic, not a sensor or template)
     int door_switch;        ///< NT_DOOR_LOCKED, NT_DOOR_TRAP: 1 + index of the switch region (0 otherwise)
+    nt_one_way_side one_way; ///< a one-way platform of the game layer facing that side (static or
+                             ///< kinematic, not a door): it collides with nothing while the player is
+                             ///< not wholly on that side of it
 } nt_level_body;
 
 /// When a spawner creates a body.
@@ -229,7 +241,8 @@ typedef void nt_warning_fn(const char *message, void *context);
 /// column. Gives a 33 x 25 level of cell 24 with the one-cell FULL border, the player
 /// spawn, the exit door (region "exit" that needs its switch region "exitswitch"),
 /// doors (plain, locked and trap doors with their switches), gold (score sensors),
-/// mines (deadly sensors), one-way platforms facing up, bounce blocks (dynamic boxes)
+/// mines (deadly sensors), one-way platforms (cells facing up, one-way bodies facing
+/// the other ways), bounce blocks (dynamic boxes)
 /// and launch pads (bouncy cells). Unknown or unsupported objects are skipped with a
 /// warning that names them. *count (may be NULL)
 /// receives the number of levels in the text.

@@ -125,6 +125,8 @@ static void remove_body(nt_game *g, game_body *b)
     b->alive = false;
 }
 
+static void set_one_way_bodies(nt_game *g);
+
 /* ---------------------------------------------------------------- create / destroy */
 
 nt_player_def nt_default_player_def(void)
@@ -276,6 +278,7 @@ nt_status nt_game_create(const nt_level *lv, const nt_game_def *def, nt_game **o
             if (!g->switch_on) s = NT_ERR_OUT_OF_MEMORY;
         }
     }
+    for (int i = 0; i < lv->body_count; i++) g->has_one_way |= lv->bodies[i].one_way != NT_ONE_WAY_NONE;
     /* Trap doors start open: they collide with nothing until their switch is on. */
     for (int i = 0; s == NT_OK && i < g->body_count; i++) {
         const game_body *b = &g->bodies[i];
@@ -285,7 +288,10 @@ nt_status nt_game_create(const nt_level *lv, const nt_game_def *def, nt_game **o
         nt_game_destroy(g);
         return s;
     }
-    if (g->player_record >= 0) nt__player_sense(g);
+    if (g->player_record >= 0) {
+        nt__player_sense(g);
+        set_one_way_bodies(g);
+    }
     *out = g;
     return NT_OK;
 }
@@ -631,6 +637,30 @@ static void apply_regions(nt_game *g)
     }
 }
 
+/* One-way bodies of the game layer (nt_level_body.one_way): solid (the level's filter)
+ * while the player lies wholly on the side they face, within a twentieth of a cell;
+ * colliding with nothing otherwise, so that the player passes from the other sides. */
+static void set_one_way_bodies(nt_game *g)
+{
+    if (!g->has_one_way) return;
+    nt_world *w = g->world;
+    nt_body_id pid = g->bodies[g->player_record].id;
+    nt_vec2 p = nt_body_get_position(w, pid);
+    nt_real r = nt_body_get_shape(w, pid).half.x, tol = g->cell / 20;
+    for (int i = 0; i < g->body_count; i++) {
+        game_body *b = &g->bodies[i];
+        const nt_level_body *lb = level_body_of(g, b);
+        if (!b->alive || b->source != GB_LEVEL || !lb || lb->one_way == NT_ONE_WAY_NONE) continue;
+        nt_vec2 c = nt_body_get_position(w, b->id), h = nt_body_get_shape(w, b->id).half;
+        bool outside = lb->one_way == NT_ONE_WAY_RIGHT  ? p.x - r >= c.x + h.x - tol
+                       : lb->one_way == NT_ONE_WAY_LEFT ? p.x + r <= c.x - h.x + tol
+                       : lb->one_way == NT_ONE_WAY_DOWN ? p.y - r >= c.y + h.y - tol
+                                                        : p.y + r <= c.y - h.y + tol;
+        uint32_t cat = outside ? lb->category : 0, mask = outside ? lb->mask : 0;
+        if (nt_body_get_category(w, b->id) != cat || nt_body_get_mask(w, b->id) != mask) nt_body_set_filter(w, b->id, cat, mask);
+    }
+}
+
 /* Everything a step of the game may allocate outside the world, before it changes
  * anything: the undo buffers and room for every touch of the player (a contact and a
  * sensor begin per body of the world, this tick's spawns included, and 16 near ones). */
@@ -709,6 +739,9 @@ nt_status nt_game_step(nt_game *g, uint32_t keys, nt_real dt)
     g->prev_keys = keys;
     apply_events(g);
     apply_regions(g);
-    if (g->player_record >= 0) nt__player_sense(g);
+    if (g->player_record >= 0) {
+        nt__player_sense(g);
+        set_one_way_bodies(g); /* for the next tick, from where the player ended this one */
+    }
     return NT_OK;
 }
