@@ -337,6 +337,13 @@ static void test_shards(void **state)
         assert_int_equal(passed, 5);
         assert_int_equal(failed, 4);
     }
+    /* A replay given to --level: the hint goes the other way. */
+    const char *rev[] = {"run", "--level", scratch_path("ok.ntr"), "--ticks", "5", NULL};
+    run_result rr;
+    run_cli(&rr, rev);
+    expect_status(&rr, 1);
+    expect_in(rr.err, "ok.ntr is a replay, not a level: run it with ntile run ");
+    run_free(&rr);
     /* More shards than files: an empty shard passes with nothing run. */
     const char *opts[] = {"--shard", "3/3", NULL};
     run_result r;

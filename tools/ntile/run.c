@@ -672,6 +672,9 @@ static int run_level(const char *level_path, long long ticks, const char *input,
     nt_status ls = load_level(level_path, &lv, why, sizeof why);
     if (ls != NT_OK) {
         fprintf(stderr, "ntile run: %s\n", why);
+        size_t pl = strlen(level_path);
+        if (ls == NT_ERR_PARSE && pl > 4 && strcmp(level_path + pl - 4, ".ntr") == 0)
+            fprintf(stderr, "ntile run: %s is a replay, not a level: run it with ntile run %s\n", level_path, level_path);
         return ls == NT_ERR_PARSE ? CLI_INPUT_ERRORS : CLI_USAGE; /* a bad level, or no file */
     }
     nt_replay *rp = NULL;
