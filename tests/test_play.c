@@ -28,6 +28,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "../tools/ntile-play/canvas.h"
 #include "../tools/ntile-play/colors.h"
 #include "child.h"
 #include "scratch.h"
@@ -525,8 +526,11 @@ static void test_hud_and_palette(void **state)
     expect_pixel(&a, sx0 - 2, sy1 + c / 2, PG_COLOR_STRIP, "no selection around 45DEGpn before Tab");
     expect_pixel(&b, sx0 - 2, sy1 + c / 2, PG_COLOR_SELECT, "the selection around 45DEGpn after Tab");
     expect_pixel(&b, sx1 - 2, sy0 + c / 2, PG_COLOR_STRIP, "no selection around FULL after Tab");
-    /* HUD text in the top-left corner. */
-    assert_true(count_color(&a, 0, 0, 600, 40, PG_COLOR_TEXT) > 300);
+    /* The side panel on the left, beside the level and never over it: its text, its
+     * background down to the bottom, and the level's outer wall just right of it. */
+    assert_true(count_color(&a, 0, 0, PG_PANEL_W, 640, PG_COLOR_TEXT) > 1000);
+    expect_pixel(&a, 2, 630, PG_COLOR_PANEL_BG, "the panel's background");
+    assert_int_equal(count_color(&a, PG_PANEL_W, 0, x0, 640, PG_COLOR_TEXT), 0);
     free(a.px);
     free(b.px);
 }
@@ -838,9 +842,11 @@ static void test_png_and_determinism(void **state)
     size_t png_size;
     free(scratch_read(png, &png_size));
     assert_true(png_size < (size_t)a.w * (size_t)a.h); /* compressed: under a byte per pixel */
-    /* The HUD's fps figure is wall-clock: compare everything below the HUD panel. */
-    for (int y = 80; y < a.h; y++)
+    /* The panel's fps and step time are wall-clock, alone on its bottom line: compare
+     * everything else. */
+    for (int y = 0; y < a.h; y++)
         for (int x = 0; x < a.w; x++) {
+            if (x < PG_PANEL_W && y >= a.h - PG_CHAR_H - 4) continue;
             if (pixel(&a, x, y) != pixel(&b, x, y)) fail_msg("PNG and BMP differ at (%d, %d)", x, y);
             if (pixel(&a, x, y) != pixel(&c, x, y)) fail_msg("two runs differ at (%d, %d)", x, y);
         }
@@ -908,8 +914,107 @@ static void test_dead_player_drawn(void **state)
     assert_int_equal(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER), 0);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER_DEAD) > 20);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_DEAD_MARK) > 5);
+    /* The DEAD banner, large, only once dead. */
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_BANNER_DEAD), 0);
+    assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_BANNER_DEAD) > 500);
     free(a.px);
     free(d.px);
+}
+
+
+/* ---------- readable levels ---------- */
+
+/* Every kind of object in one small level, drawn at 1 pixel per unit with the camera
+ * at its centre (world (x, y) is pixel (x, y)). */
+static const char *objects_level(bool player_in_exit)
+{
+    const char *name = player_in_exit ? "objects-exit.ntl" : "objects.ntl";
+    char text[4096];
+    snprintf(text, sizeof text,
+             "ntile-level 1\nsize 20 10\ncell 24\nmaterial 1 0.05 0.9\ntiles\n"
+             "|####################|\n|#..................#|\n|#..................#|\n|#..................#|\n"
+             "|#..................#|\n|#..................#|\n|#..................#|\n|#.....#.#..#.......#|\n"
+             "|#..................#|\n|####################|\n"
+             "materials\n"
+             "|....................|\n|....................|\n|....................|\n|....................|\n"
+             "|....................|\n|....................|\n|....................|\n|......1.............|\n"
+             "|....................|\n|....................|\n"
+             "flags\n"
+             "|....................|\n|....................|\n|....................|\n|....................|\n"
+             "|....................|\n|....................|\n|....................|\n|...........-........|\n"
+             "|....................|\n|....................|\n"
+             "player %s\n"
+             "region door exit 420 168 444 216\n"
+             "region bin score 300 150 348 198 value 25\n"
+             "region pit kill 24 24 96 72\n"
+             "region area zone 120 24 200 80\n"
+             "path p pingpong speed 10 points 120 120 200 120\n"
+             "body g static circle 8 at 216 60 sensor score 1\n"
+             "body m static circle 6 at 264 60 sensor deadly\n"
+             "body plat kinematic box 12 4 at 120 120 path p\n"
+             "body ball dynamic circle 5 at 360 60 template\n"
+             "spawner sp ball every 1000 limit 1\n",
+             player_in_exit ? "432 200" : "48 200");
+    scratch_write_text(name, text);
+    return scratch_path(name);
+}
+
+static uint32_t mix(uint32_t a, uint32_t b, int alpha) /* render.c's pg_mix */
+{
+    uint32_t out = 0;
+    for (int s = 0; s <= 16; s += 8) {
+        int ca = (int)((a >> s) & 0xffu), cb = (int)((b >> s) & 0xffu);
+        out |= (uint32_t)(ca + ((cb - ca) * alpha) / 255) << s;
+    }
+    return out;
+}
+
+/* Each object kind in its own colour and shape where the level puts it. */
+static void test_object_kinds(void **state)
+{
+    (void)state;
+    const char *out = scratch_path("objects.bmp"), *out2 = scratch_path("objects-exit.bmp");
+    const char *view[] = {"--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120", "--frames", "1"};
+    play_ok((const char *[]){objects_level(false), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+                             view[9], "--screenshot", out, NULL});
+    play_ok((const char *[]){objects_level(true), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+                             view[9], "--screenshot", out2, NULL});
+    image a = load_bmp(out), b = load_bmp(out2);
+    /* Gold: a gold disc with a darker rim. */
+    expect_pixel(&a, 216, 60, PG_COLOR_GOLD, "the gold's centre");
+    assert_true(count_color(&a, 205, 49, 228, 72, PG_COLOR_GOLD_RIM) > 20);
+    /* The mine: a dark core, a red disc and red spikes beyond its radius (6). */
+    expect_pixel(&a, 264, 60, PG_COLOR_MINE_CORE, "the mine's core");
+    expect_pixel(&a, 268, 60, PG_COLOR_MINE, "the mine's disc");
+    expect_pixel(&a, 264 + 9, 60, PG_COLOR_MINE, "the mine's right spike");
+    expect_pixel(&a, 264, 60 - 9, PG_COLOR_MINE, "the mine's top spike");
+    expect_pixel(&a, 264 + 7, 60 + 3, PG_COLOR_BG, "between two spikes");
+    /* The exit: a closed door, open once the level is complete (the player starts in it). */
+    expect_pixel(&a, 422, 180, PG_COLOR_DOOR, "the closed door");
+    assert_int_equal(count_color(&a, 420, 168, 444, 216, PG_COLOR_DOOR_OPEN), 0);
+    assert_true(count_color(&b, 420, 168, 444, 216, PG_COLOR_DOOR_OPEN) > 200);
+    /* One-way cell (11, 7): its top in the one-way colour, an arrow up inside. */
+    assert_true(count_color(&a, 264, 168, 288, 170, PG_COLOR_ONEWAY) >= 40);
+    assert_true(count_color(&a, 270, 172, 282, 192, PG_COLOR_ONEWAY) >= 10);
+    assert_int_equal(count_color(&a, 192, 168, 216, 192, PG_COLOR_ONEWAY), 0); /* (8, 7): an ordinary FULL */
+    /* The material of cell (6, 7) tints it; (8, 7) has the plain fill. */
+    expect_pixel(&a, 8 * 24 + 12, 7 * 24 + 12, PG_COLOR_TILE, "a tile of material 0");
+    uint32_t tints[16] = PG_MATERIAL_TINTS;
+    expect_pixel(&a, 6 * 24 + 12, 7 * 24 + 12, mix(PG_COLOR_TILE, tints[1], 110), "a tile of material 1");
+    /* The bin: walls in its colour; the kill region hatched; the zone's dashed outline. */
+    assert_true(count_color(&a, 300, 150, 302, 198, PG_COLOR_BIN) >= 90);
+    assert_true(count_color(&a, 24, 24, 96, 72, PG_COLOR_KILL) > 200);
+    assert_true(count_color(&a, 120, 24, 200, 25, PG_COLOR_ZONE) > 30);
+    assert_true(count_color(&a, 120, 24, 200, 25, PG_COLOR_ZONE) < 70); /* dashed, not solid */
+    /* The platform on its dotted path; the spawner's mark above the template. */
+    expect_pixel(&a, 121, 120, PG_COLOR_PLATFORM, "the platform");
+    assert_true(count_color(&a, 140, 117, 200, 124, PG_COLOR_PATH) > 10);
+    assert_true(count_color(&a, 352, 48, 368, 60, PG_COLOR_SPAWNER) > 10);
+    /* No banner while playing; COMPLETE once in the exit. */
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_BANNER_WIN), 0);
+    assert_true(count_color(&b, 0, 0, b.w, b.h, PG_COLOR_BANNER_WIN) > 300);
+    free(a.px);
+    free(b.px);
 }
 
 /* Bad input: clear messages, non-zero exit, no crash. */
@@ -977,7 +1082,7 @@ int main(void)
         cmocka_unit_test(test_throw_size_key),     cmocka_unit_test(test_large_throw_and_paint),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
-        cmocka_unit_test(test_dead_player_drawn),
+        cmocka_unit_test(test_dead_player_drawn),  cmocka_unit_test(test_object_kinds),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

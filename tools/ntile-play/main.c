@@ -277,6 +277,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_f: pg_command(p, PG_CMD_FRICTION_MODEL, 0); break;
     case SDLK_F2: pg_command(p, PG_CMD_SAVE, 0); break;
     case SDLK_F5: pg_command(p, PG_CMD_RECORD, 0); break;
+    case SDLK_F3: pg_command(p, PG_CMD_PANEL, 0); break;
     case SDLK_HOME: pg_command(p, PG_CMD_ZOOM, 0); break;
     default: break;
     }

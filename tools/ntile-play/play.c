@@ -284,6 +284,76 @@ static int ends_with(const char *s, const char *suffix)
 static void update_view_fit(pg *p);
 static void pan(pg *p, double seconds);
 
+/* ---------------------------------------------------------------- kinds of bodies */
+
+static int kind_of_level_body(const nt_level_body *b)
+{
+    if (b->deadly) return PG_KIND_MINE;
+    if (b->score > 0) return PG_KIND_GOLD;
+    if (b->type == NT_BODY_KINEMATIC && b->path >= 0) return PG_KIND_PLATFORM;
+    return PG_KIND_PLAIN;
+}
+
+static void set_kind(pg *p, nt_body_id id, int kind)
+{
+    int slot = id.index1 - 1;
+    if (slot < 0) return;
+    if (slot >= p->kind_cap) {
+        int cap = p->kind_cap ? p->kind_cap : 256;
+        while (cap <= slot) cap *= 2;
+        unsigned char *nk = realloc(p->kind, (size_t)cap);
+        if (!nk) return;
+        p->kind = nk;
+        uint32_t *ng = realloc(p->kind_gen, (size_t)cap * sizeof *ng);
+        if (!ng) return;
+        p->kind_gen = ng;
+        for (int k = p->kind_cap; k < cap; k++) ng[k] = 0;
+        p->kind_cap = cap;
+    }
+    p->kind[slot] = (unsigned char)kind;
+    p->kind_gen[slot] = id.generation + 1;
+}
+
+/* A new game's bodies come in level order (repeats row by row, templates left out),
+ * then the player (nt_game_get_bodies). */
+static void classify_bodies(pg *p)
+{
+    for (int i = 0; i < p->kind_cap; i++) p->kind_gen[i] = 0;
+    if (!p->game) return;
+    nt_body_id *ids;
+    int n = pg__bodies(p, &ids), k = 0;
+    const nt_level *lv = p->level;
+    for (int i = 0; i < lv->body_count && k < n; i++) {
+        const nt_level_body *b = &lv->bodies[i];
+        if (b->is_template) continue;
+        for (int j = 0; j < b->repeat_x * b->repeat_y && k < n; j++) set_kind(p, ids[k++], kind_of_level_body(b));
+    }
+    free(ids);
+    nt_body_id pl = nt_game_get_player(p->game);
+    if (!nt_body_id_is_null(pl)) set_kind(p, pl, PG_KIND_PLAYER);
+}
+
+int pg__body_kind(pg *p, nt_body_id id)
+{
+    int slot = id.index1 - 1;
+    if (slot >= 0 && slot < p->kind_cap && p->kind_gen[slot] == id.generation + 1) return p->kind[slot];
+    /* A body made later: a spawner's copy of a template is what its template is. */
+    int kind = PG_KIND_PLAIN;
+    nt_world *w = nt_game_get_world(p->game);
+    nt_shape s = nt_body_get_shape(w, id);
+    nt_body_type t = nt_body_get_type(w, id);
+    for (int i = 0; i < p->level->body_count; i++) {
+        const nt_level_body *b = &p->level->bodies[i];
+        if (b->is_template && b->type == t && b->shape.type == s.type && b->shape.half.x == s.half.x &&
+            b->shape.half.y == s.half.y) {
+            kind = kind_of_level_body(b);
+            break;
+        }
+    }
+    set_kind(p, id, kind);
+    return kind;
+}
+
 /* Build a new game from the current level. */
 static int rebuild(pg *p)
 {
@@ -296,6 +366,7 @@ static int rebuild(pg *p)
     nt_game_destroy(p->game);
     p->game = g;
     clear_world_extras(p);
+    classify_bodies(p);
     return 1;
 }
 
@@ -320,6 +391,7 @@ static int install_level(pg *p, nt_level *lv, const char *path, char *why, size_
     p->bounce = (double)lv->body_material.bounce;
     p->friction = (double)lv->body_material.friction;
     clear_world_extras(p);
+    classify_bodies(p);
     p->zoom_fit = 0; /* a new level starts at its own fit */
     p->pan.x = p->pan.y = 0;
     update_view_fit(p);
@@ -541,11 +613,25 @@ void pg__strip_rect(const pg *p, int *x0, int *cell, int *gap)
     *x0 = p->opt.hud ? p->win_w - (PG_STRIP_COLS * c + (PG_STRIP_COLS + 1) * g) : p->win_w;
 }
 
+int pg__text_scale(const pg *p) { return p->win_w >= 1600 ? 2 : 1; }
+
+bool pg__in_view(const pg *p, double x, double y)
+{
+    return x >= p->view_x && x < p->view_x + p->view_w && y >= 0 && y < p->view_h;
+}
+
+/* The window, left to right: the panel (when on the left), the view, the panel (when
+ * on the right), the tile strip. Without the HUD the view is the whole window. */
 static void update_view_fit(pg *p)
 {
     int x0, c, g;
     pg__strip_rect(p, &x0, &c, &g);
-    p->view_w = x0 > 0 ? x0 : 1;
+    int pw = p->opt.hud && p->panel != PG_PANEL_HIDDEN ? PG_PANEL_W * pg__text_scale(p) : 0;
+    if (pw > x0 / 2) pw = x0 / 2;
+    p->panel_w = pw;
+    p->panel_x = p->panel == PG_PANEL_LEFT ? 0 : x0 - pw;
+    p->view_x = p->panel == PG_PANEL_LEFT ? pw : 0;
+    p->view_w = x0 - pw > 0 ? x0 - pw : 1;
     p->view_h = p->win_h > 0 ? p->win_h : 1;
     if (!p->level) return;
     double lw = p->level->width * (double)p->level->cell_size, lh = p->level->height * (double)p->level->cell_size;
@@ -624,13 +710,13 @@ static void update_camera(pg *p)
 
 pg_vec pg__to_screen(const pg *p, double x, double y)
 {
-    pg_vec r = {(x - p->cam.x) * p->zoom + p->view_w / 2.0, (y - p->cam.y) * p->zoom + p->view_h / 2.0};
+    pg_vec r = {(x - p->cam.x) * p->zoom + p->view_x + p->view_w / 2.0, (y - p->cam.y) * p->zoom + p->view_h / 2.0};
     return r;
 }
 
 pg_vec pg__to_world(const pg *p, double x, double y)
 {
-    pg_vec r = {(x - p->view_w / 2.0) / p->zoom + p->cam.x, (y - p->view_h / 2.0) / p->zoom + p->cam.y};
+    pg_vec r = {(x - p->view_x - p->view_w / 2.0) / p->zoom + p->cam.x, (y - p->view_h / 2.0) / p->zoom + p->cam.y};
     return r;
 }
 
@@ -898,6 +984,27 @@ static void switch_friction_model(pg *p)
         probe.friction_model == NT_FRICTION_N ? "N" : "Coulomb");
 }
 
+/* Gravity's y by a step (a tenth of 320 scaled to the cell), live in the world and in
+ * the level model (F2 saves it). */
+static void set_gravity(pg *p, int dir)
+{
+    if (!p->game) return;
+    if (p->replay_on || p->recording) {
+        say(p, "gravity is fixed while a replay plays or a recording runs");
+        return;
+    }
+    nt_world *w = nt_game_get_world(p->game);
+    nt_vec2 g = nt_world_get_gravity(w);
+    double step = 32.0 * (double)p->level->cell_size / 24;
+    g.y = (nt_real)(round(((double)g.y + dir * step) / step) * step);
+    if (nt_world_set_gravity(w, g) != NT_OK) {
+        say(p, "gravity out of range");
+        return;
+    }
+    p->level->gravity = g;
+    p->dirty = true;
+}
+
 void pg_command(pg *p, pg_cmd cmd, int arg)
 {
     switch (cmd) {
@@ -930,7 +1037,7 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
         break;
     case PG_CMD_THROW_SHAPE: p->throw_circle = !p->throw_circle; break;
     case PG_CMD_THROW_SIZE:
-        p->throw_size = (p->throw_size + 1) % THROW_SIZES;
+        p->throw_size = (p->throw_size + (arg < 0 ? THROW_SIZES - 1 : 1)) % THROW_SIZES;
         say(p, "thrown bodies: %g cell%s across", pg__throw_cells(p), pg__throw_cells(p) == 1 ? "" : "s");
         break;
     case PG_CMD_BOUNCE:
@@ -947,6 +1054,35 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
     case PG_CMD_RECORD:
         if (p->recording) record_stop(p);
         else record_start(p);
+        break;
+    case PG_CMD_PANEL:
+        p->panel = (p->panel + 1) % 3;
+        update_view_fit(p);
+        break;
+    case PG_CMD_GRAVITY: set_gravity(p, arg); break;
+    case PG_CMD_DT: {
+        static const double dts[] = {1.0 / 40, 1.0 / 60, 1.0 / 120, 1.0 / 20};
+        if (p->replay_on || p->recording) {
+            say(p, "the tick is fixed while a replay plays or a recording runs (replays hold 1/40 s ticks)");
+            break;
+        }
+        int k = 0;
+        while (k < 4 && fabs(dts[k] - (double)p->dt) > 1e-9) k++;
+        p->dt = (nt_real)dts[(k + 1) % 4];
+        p->acc = 0;
+        say(p, "tick %.4g s (%.0f Hz)", (double)p->dt, 1 / (double)p->dt);
+        break;
+    }
+    case PG_CMD_SLEEP:
+        if (p->replay_on) {
+            say(p, "the replay fixes the world; switch level to play freely");
+            break;
+        }
+        record_stop(p);
+        p->level->sleep = !p->level->sleep;
+        p->dirty = true;
+        rebuild(p);
+        say(p, "sleeping %s: the world was rebuilt from the level", p->level->sleep ? "on" : "off");
         break;
     case PG_CMD_ZOOM: {
         double f = arg > 0 ? 1.25 : arg < 0 ? 0.8 : 0;
@@ -1062,7 +1198,7 @@ void pg_mouse_move(pg *p, double x, double y)
     update_camera(p); /* the view the mouse points into */
     p->mx = x, p->my = y;
     p->mouse_seen = true;
-    if (p->drag == PG_MOUSE_RIGHT && p->game && !p->recording && x < p->view_w) paint_to(p, x, y);
+    if (p->drag == PG_MOUSE_RIGHT && p->game && !p->recording && pg__in_view(p, x, y)) paint_to(p, x, y);
 }
 
 void pg_mouse_button(pg *p, int button, bool down, double x, double y)
@@ -1070,6 +1206,16 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
     update_camera(p);
     p->mx = x, p->my = y;
     p->mouse_seen = true;
+    if (down && button == PG_MOUSE_LEFT && p->panel_w > 0 && x >= p->panel_x && x < p->panel_x + p->panel_w) {
+        for (int i = 0; i < p->widget_n; i++) {
+            const struct pg_widget *wg = &p->widgets[i];
+            if (x >= wg->x0 && x < wg->x1 && y >= wg->y0 && y < wg->y1) {
+                pg_command(p, (pg_cmd)wg->cmd, wg->arg);
+                break;
+            }
+        }
+        return;
+    }
     int t = strip_tile_at(p, x, y);
     if (down && t >= 0) {
         p->tile = t;
@@ -1081,7 +1227,7 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
         if (button == p->drag) p->drag = 0;
         return;
     }
-    if (x >= p->view_w) return;
+    if (!pg__in_view(p, x, y)) return;
     if (!mouse_tools_allowed(p)) return;
     if (button == PG_MOUSE_LEFT) {
         p->drag = PG_MOUSE_LEFT;
@@ -1244,6 +1390,8 @@ void pg_destroy(pg *p)
     free(p->rec_trace);
     free(p->prev);
     free(p->prev_gen);
+    free(p->kind);
+    free(p->kind_gen);
     free(p->pairs);
     free(p);
 }

@@ -71,6 +71,10 @@ typedef enum pg_cmd {
     PG_CMD_SAVE,
     PG_CMD_RECORD,
     PG_CMD_ZOOM,        /* arg: +1 / -1 / 0 (reset) */
+    PG_CMD_PANEL,       /* the side panel: left, right, hidden */
+    PG_CMD_GRAVITY,     /* arg: +1 / -1: gravity's y by a tenth of the level's (or 32) */
+    PG_CMD_DT,          /* cycle the tick: 1/40, 1/60, 1/120, 1/20 s */
+    PG_CMD_SLEEP,       /* sleeping on / off (rebuilds the world) */
 } pg_cmd;
 
 enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3 };

@@ -65,7 +65,9 @@ struct pg {
     int paint_x, paint_y;
 
     /* View. */
-    int win_w, win_h, view_w, view_h;
+    int win_w, win_h, view_x, view_w, view_h;
+    int panel;          /* the side panel: PG_PANEL_LEFT, PG_PANEL_RIGHT or PG_PANEL_HIDDEN (F3 cycles) */
+    int panel_x, panel_w;
     double zoom, zoom_fit;
     pg_vec cam;
     pg_vec pan;         /* levels without a player: the arrows move the view from the centre */
@@ -75,6 +77,11 @@ struct pg {
     pg_vec *prev;
     uint32_t *prev_gen;
     int prev_cap;
+
+    /* What each body is in the level (PG_KIND_*), by slot (generation + 1 in kind_gen). */
+    unsigned char *kind;
+    uint32_t *kind_gen;
+    int kind_cap;
 
     /* Gizmos. */
     unsigned gizmos;
@@ -93,19 +100,34 @@ struct pg {
     /* Palette world: each tile alone in a cell, drawn through nt_world_draw. */
     nt_world *palette;
 
+    /* Clickable parts of the side panel, as the last frame drew them. */
+    struct pg_widget {
+        int x0, y0, x1, y1;
+        int cmd, arg;
+    } widgets[64];
+    int widget_n;
+
     char msg[256];
     double msg_until; /* wall-clock seconds */
     double clock;     /* wall-clock seconds seen (for messages only) */
     bool fixed;       /* the last advance was a fixed frame (automation) */
 };
 
+enum { PG_PANEL_LEFT, PG_PANEL_RIGHT, PG_PANEL_HIDDEN };
+
+/* Kinds of bodies, each drawn its own way. */
+enum { PG_KIND_PLAIN, PG_KIND_GOLD, PG_KIND_MINE, PG_KIND_PLATFORM, PG_KIND_PLAYER };
+
 /* play.c helpers render.c uses. */
+int pg__body_kind(pg *p, nt_body_id id);
 int pg__bodies(const pg *p, nt_body_id **out); /* every live body of the game (thrown ones too); caller frees */
 pg_vec pg__to_screen(const pg *p, double x, double y);
 pg_vec pg__to_world(const pg *p, double x, double y);
 pg_vec pg__player_pos(const pg *p, double alpha); /* interpolated */
 double pg__alpha(const pg *p);
 void pg__strip_rect(const pg *p, int *x0, int *cell, int *gap);
+int pg__text_scale(const pg *p);
+bool pg__in_view(const pg *p, double x, double y);
 /* Width (and height) of a thrown body, in cells, and the half-size in world units. */
 double pg__throw_cells(const pg *p);
 double pg__throw_half(const pg *p);
