@@ -26,6 +26,7 @@
 #include <string.h>
 #include <sys/types.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "../tools/ntile-play/canvas.h"
@@ -1017,6 +1018,118 @@ static void test_object_kinds(void **state)
     free(b.px);
 }
 
+
+/* ---------- CPU use when paused, in a real window under Xvfb ---------- */
+
+/* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
+static void sleep_ms(long ms)
+{
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    }
+}
+
+static long cpu_ticks_below(pid_t root, const char *comm, pid_t *found)
+{
+    DIR *d = opendir("/proc");
+    if (!d) return -1;
+    struct dirent *e;
+    long ticks = -1;
+    while (ticks < 0 && (e = readdir(d))) {
+        char path[300], buf[1024];
+        if (e->d_name[0] < '0' || e->d_name[0] > '9') continue;
+        snprintf(path, sizeof path, "/proc/%s/stat", e->d_name);
+        FILE *f = fopen(path, "r");
+        if (!f) continue;
+        size_t n = fread(buf, 1, sizeof buf - 1, f);
+        fclose(f);
+        buf[n] = '\0';
+        char *open = strchr(buf, '('), *close = strrchr(buf, ')');
+        if (!open || !close || (size_t)(close - open - 1) != strlen(comm) || strncmp(open + 1, comm, strlen(comm)) != 0) continue;
+        /* Fields after the name: state ppid ... utime (14th field) stime (15th). */
+        long pid = atol(buf);
+        char state;
+        long ppid;
+        unsigned long ut, st;
+        if (sscanf(close + 2, "%c %ld %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu", &state, &ppid, &ut, &st) != 4) continue;
+        /* A descendant of root? */
+        long up = ppid;
+        for (int hops = 0; hops < 8 && up > 1 && up != (long)root; hops++) {
+            char pp[64], b2[1024];
+            snprintf(pp, sizeof pp, "/proc/%ld/stat", up);
+            FILE *g = fopen(pp, "r");
+            if (!g) break;
+            size_t m = fread(b2, 1, sizeof b2 - 1, g);
+            fclose(g);
+            b2[m] = '\0';
+            char *c2 = strrchr(b2, ')');
+            long next;
+            if (!c2 || sscanf(c2 + 2, "%*c %ld", &next) != 1) break;
+            up = next;
+        }
+        if (up != (long)root) continue;
+        ticks = (long)(ut + st);
+        *found = (pid_t)pid;
+    }
+    closedir(d);
+    return ticks;
+}
+
+/* CPU seconds the playground uses from 1.5 s to 6.5 s after its start, in an X11
+ * window under xvfb-run (with `script`, or none). */
+static double cpu_share_under_xvfb(const char *script)
+{
+    const char *exe = play_exe();
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0) {
+        int nul = open("/dev/null", O_RDWR);
+        if (nul >= 0) dup2(nul, 1), dup2(nul, 2);
+        unsetenv("SDL_VIDEODRIVER");
+        if (script)
+            execlp("xvfb-run", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24", exe, "levels/ninja.ntl", "--seconds", "8",
+                   "--script", script, (char *)NULL);
+        else
+            execlp("xvfb-run", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24", exe, "levels/ninja.ntl", "--seconds", "8",
+                   (char *)NULL);
+        _exit(127);
+    }
+    pid_t play = 0;
+    long t0 = -1;
+    for (int i = 0; i < 150 && t0 < 0; i++) { /* wait for the playground to start (up to 3 s) */
+        sleep_ms(20);
+        t0 = cpu_ticks_below(child, "ntile-play", &play);
+    }
+    if (t0 < 0) fail_msg("ntile-play did not start under xvfb-run");
+    sleep_ms(1500);
+    t0 = cpu_ticks_below(child, "ntile-play", &play);
+    sleep_ms(5000);
+    long t1 = cpu_ticks_below(child, "ntile-play", &play);
+    int status;
+    waitpid(child, &status, 0);
+    if (t0 < 0 || t1 < 0) fail_msg("ntile-play ended before the measurement did");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) fail_msg("xvfb-run ntile-play: status %d", status);
+    return (double)(t1 - t0) / (double)sysconf(_SC_CLK_TCK) / 5.0;
+}
+
+/* Paused, the playground sleeps until an event: below 2 % of a core over 5 s; playing,
+ * it draws about 60 frames a second (well above that: the measurement can tell). */
+static void test_paused_cpu(void **state)
+{
+    (void)state;
+    play_exe();
+    if (system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        print_message("skipped: xvfb-run is not installed (Debian's xvfb)\n");
+        skip();
+    }
+    scratch_write_text("pause.script", "1 press P\n");
+    double paused = cpu_share_under_xvfb(scratch_path("pause.script"));
+    double playing = cpu_share_under_xvfb(NULL);
+    print_message("CPU use under Xvfb: paused %.2f %% of a core, playing %.1f %%\n", 100 * paused, 100 * playing);
+    if (paused >= 0.02) fail_msg("paused, the playground used %.2f %% of a core (expected below 2 %%)", 100 * paused);
+    if (playing < 0.03) fail_msg("playing, the playground used only %.2f %% of a core: is it drawing?", 100 * playing);
+}
+
 /* Bad input: clear messages, non-zero exit, no crash. */
 static void test_errors(void **state)
 {
@@ -1083,6 +1196,7 @@ int main(void)
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
         cmocka_unit_test(test_dead_player_drawn),  cmocka_unit_test(test_object_kinds),
+        cmocka_unit_test(test_paused_cpu),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

@@ -284,6 +284,10 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     return 0;
 }
 
+/* The window has the keyboard focus (assumed until SDL says otherwise: a window
+ * manager-less X server such as Xvfb never gives it). */
+static bool focused = true;
+
 /* One SDL event: 0 to go on, 1 to quit. */
 static int handle_event(pg *p, const SDL_Event *e, int *resized)
 {
@@ -315,7 +319,9 @@ static int handle_event(pg *p, const SDL_Event *e, int *resized)
     case SDL_MOUSEWHEEL: pg_mouse_wheel(p, e->wheel.y); return 0;
     case SDL_WINDOWEVENT:
         if (e->window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e->window.event == SDL_WINDOWEVENT_RESIZED) *resized = 1;
+        if (e->window.event == SDL_WINDOWEVENT_FOCUS_GAINED) focused = true;
         if (e->window.event == SDL_WINDOWEVENT_FOCUS_LOST) {
+            focused = false;
             /* Key releases go to the other window: nothing stays held. */
             for (int i = 0; i < HOLD_COUNT; i++) holds[i].down = false;
             pg_set_keys(p, 0);
@@ -632,6 +638,21 @@ int main(int argc, char **argv)
         }
         SDL_Event ev;
         int resized = 0;
+        bool idle_timeout = false, idle_msg = false;
+        if (!fixed && (pg_idle(p) || !focused)) {
+            /* Paused or in the background: nothing moves, so sleep until something
+             * happens (a key, the mouse, the window) instead of drawing 60 frames a
+             * second; wake at least every half second for messages and --seconds. */
+            int ms = 500;
+            if (a.seconds > 0) {
+                double left = a.seconds - (double)(SDL_GetPerformanceCounter() - start) / (double)freq;
+                ms = left <= 0 ? 0 : left * 1000 < ms ? (int)(left * 1000) + 1 : ms;
+            }
+            bool msg_before = pg_message(p)[0] != 0;
+            if (SDL_WaitEventTimeout(&ev, ms)) quit = handle_event(p, &ev, &resized);
+            else idle_timeout = true;
+            idle_msg = msg_before;
+        }
         while (!quit && SDL_PollEvent(&ev)) quit = handle_event(p, &ev, &resized);
         if (quit) break;
         if (resized) {
@@ -644,7 +665,14 @@ int main(int argc, char **argv)
         last = now;
         if (dt > 0) fps = fps > 0 ? fps * 0.9 + 0.1 / dt : 1 / dt;
         if (fixed) pg_advance_frame(p);
-        else pg_advance(p, dt);
+        else pg_advance(p, focused ? dt : 0); /* the game stands still while the window is in the background */
+        /* A sleep that ended without an event changes nothing on screen, unless a
+         * message just ran out. */
+        if (idle_timeout && !resized && idle_msg == (pg_message(p)[0] != 0) && sc.next >= sc.n) {
+            double elapsed0 = (double)(SDL_GetPerformanceCounter() - start) / (double)freq;
+            if (a.seconds > 0 && elapsed0 >= a.seconds) break;
+            continue;
+        }
         pg_render(p, &canvas, fps);
         SDL_Surface *ws = SDL_GetWindowSurface(win);
         SDL_Surface *cs = canvas_surface(&canvas);

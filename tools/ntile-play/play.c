@@ -566,10 +566,13 @@ int pg_advance(pg *p, double seconds)
 {
     p->fixed = false;
     if (!(seconds >= 0)) seconds = 0;
+    p->clock += seconds < 3600 ? seconds : 3600;
     if (seconds > 0.25) seconds = 0.25; /* after a stall, do not try to catch up for ever */
-    p->clock += seconds;
     pan(p, seconds);
     if (p->paused) return 0;
+    /* The first frame after a pause may hold a long sleep (pg_idle): not game time. */
+    if (p->resumed && seconds > 1.0 / 60) seconds = 1.0 / 60;
+    p->resumed = false;
     p->acc += seconds / p->slow;
     int n = 0;
     while (p->acc >= (double)p->dt && n < 8) {
@@ -591,6 +594,11 @@ int pg_advance_frame(pg *p)
     if (p->paused || p->frame % p->slow != 0) return 0;
     tick(p);
     return 1;
+}
+
+bool pg_idle(const pg *p)
+{
+    return p->paused && p->drag == 0 && !(p->keys & (NT_INPUT_LEFT | NT_INPUT_RIGHT | NT_INPUT_UP | NT_INPUT_DOWN));
 }
 
 double pg__alpha(const pg *p)
@@ -1017,6 +1025,7 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
     case PG_CMD_LEVEL_PREV: switch_level(p, (p->level_index + p->level_count - 1) % p->level_count); break;
     case PG_CMD_PAUSE:
         p->paused = !p->paused;
+        p->resumed = !p->paused;
         p->acc = 0;
         break;
     case PG_CMD_STEP:

@@ -131,6 +131,10 @@ void pg_mouse_wheel(pg *p, double dy);
 int pg_advance(pg *p, double seconds);
 int pg_advance_frame(pg *p);
 
+/* Nothing changes without input: paused (or the level stands still), no drag, no
+ * key that pans. The window loop then sleeps until an event. */
+bool pg_idle(const pg *p);
+
 /* Draw the current state. fps: the frame rate to show. */
 void pg_render(pg *p, pg_canvas *c, double fps);
 

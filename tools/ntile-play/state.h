@@ -38,6 +38,7 @@ struct pg {
     /* Time. */
     double acc;    /* seconds of simulation owed, < dt */
     bool paused;
+    bool resumed;  /* unpaused since the last advance */
     int slow;      /* slow-motion divisor: 1, 2, 4, 8 */
     int frame;     /* frames advanced in fixed mode */
     double step_us; /* smoothed time of one tick */
