@@ -233,6 +233,13 @@ static uint32_t held_keys(void)
     return k;
 }
 
+static bool holds_space(void)
+{
+    for (int i = 0; i < HOLD_COUNT; i++)
+        if (holds[i].key == SDLK_SPACE) return holds[i].down;
+    return false;
+}
+
 /* A key press: 0 to go on, 1 to quit. */
 static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
 {
@@ -264,7 +271,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
         return 0;
     }
     switch (k) {
-    case SDLK_ESCAPE: return 1;
+    case SDLK_ESCAPE: return pg_request_quit(p);
     case SDLK_r: pg_command(p, PG_CMD_RESTART, 0); break;
     case SDLK_PAGEUP: pg_command(p, PG_CMD_LEVEL_PREV, 0); break;
     case SDLK_PAGEDOWN: pg_command(p, PG_CMD_LEVEL_NEXT, 0); break;
@@ -278,6 +285,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_F2: pg_command(p, PG_CMD_SAVE, 0); break;
     case SDLK_F5: pg_command(p, PG_CMD_RECORD, 0); break;
     case SDLK_F3: pg_command(p, PG_CMD_PANEL, 0); break;
+    case SDLK_F6: pg_command(p, PG_CMD_TOOL, shift ? -2 : -1); break;
     case SDLK_HOME: pg_command(p, PG_CMD_ZOOM, 0); break;
     default: break;
     }
@@ -287,15 +295,39 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
 /* The window has the keyboard focus (assumed until SDL says otherwise: a window
  * manager-less X server such as Xvfb never gives it). */
 static bool focused = true;
+/* Modifier keys held, as the key events said (PG_MOD_*). */
+static unsigned mods;
 
 /* One SDL event: 0 to go on, 1 to quit. */
 static int handle_event(pg *p, const SDL_Event *e, int *resized)
 {
     switch (e->type) {
-    case SDL_QUIT: return 1;
+    case SDL_QUIT: return pg_request_quit(p);
     case SDL_KEYDOWN:
     case SDL_KEYUP: {
         bool down = e->type == SDL_KEYDOWN;
+        SDL_Keycode sym = e->key.keysym.sym;
+        /* Modifiers: SDL's, or the events' own (scripted events carry none). */
+        unsigned bit = sym == SDLK_LSHIFT || sym == SDLK_RSHIFT ? PG_MOD_SHIFT
+                       : sym == SDLK_LCTRL || sym == SDLK_RCTRL ? PG_MOD_CTRL
+                       : sym == SDLK_LALT || sym == SDLK_RALT   ? PG_MOD_ALT
+                                                                : 0;
+        if (bit) mods = down ? mods | bit : mods & ~bit;
+        unsigned m = mods | ((e->key.keysym.mod & KMOD_SHIFT) ? PG_MOD_SHIFT : 0) |
+                     ((e->key.keysym.mod & KMOD_CTRL) ? PG_MOD_CTRL : 0) | ((e->key.keysym.mod & KMOD_ALT) ? PG_MOD_ALT : 0);
+        pg_set_mods(p, m);
+        if (pg_confirming(p) && down) { /* a question waits: Y, N / Esc, F2 */
+            if (!e->key.repeat) {
+                if (sym == SDLK_y) pg_command(p, PG_CMD_CONFIRM, 1);
+                else if (sym == SDLK_n || sym == SDLK_ESCAPE) pg_command(p, PG_CMD_CONFIRM, 0);
+                else if (sym == SDLK_F2) pg_command(p, PG_CMD_CONFIRM, 2);
+            }
+            return pg_should_quit(p);
+        }
+        if (down && (m & PG_MOD_CTRL) && (sym == SDLK_z || sym == SDLK_y)) {
+            pg_command(p, sym == SDLK_y || (m & PG_MOD_SHIFT) ? PG_CMD_REDO : PG_CMD_UNDO, 0);
+            return 0;
+        }
         bool held = false;
         for (int i = 0; i < HOLD_COUNT; i++)
             if (holds[i].key == e->key.keysym.sym) {
@@ -313,6 +345,10 @@ static int handle_event(pg *p, const SDL_Event *e, int *resized)
                 : e->button.button == SDL_BUTTON_MIDDLE ? PG_MOUSE_MIDDLE
                 : e->button.button == SDL_BUTTON_RIGHT ? PG_MOUSE_RIGHT
                                                         : 0;
+        /* Space + left drag pans (Space is also the jump key). */
+        static bool space_pan;
+        if (b == PG_MOUSE_LEFT && e->type == SDL_MOUSEBUTTONDOWN) space_pan = holds_space();
+        if (b == PG_MOUSE_LEFT && space_pan) b = PG_MOUSE_PAN;
         if (b) pg_mouse_button(p, b, e->type == SDL_MOUSEBUTTONDOWN, e->button.x, e->button.y);
         return 0;
     }

@@ -283,6 +283,8 @@ static int ends_with(const char *s, const char *suffix)
 
 static void update_view_fit(pg *p);
 static void pan(pg *p, double seconds);
+static void history_clear(pg *p);
+static void undo(pg *p, bool redo);
 
 /* ---------------------------------------------------------------- kinds of bodies */
 
@@ -386,6 +388,7 @@ static int install_level(pg *p, nt_level *lv, const char *path, char *why, size_
     p->game = g;
     p->level = lv;
     snprintf(p->level_path, sizeof p->level_path, "%s", path);
+    history_clear(p);
     p->dirty = false;
     p->lab = ends_with(path, "/lab.ntl") || strcmp(path, "lab.ntl") == 0 || (lv->gravity.x == 0 && lv->gravity.y == 0);
     p->bounce = (double)lv->body_material.bounce;
@@ -681,6 +684,13 @@ static bool has_player(const pg *p)
     return p->game && nt_body_is_valid(nt_game_get_world(p->game), nt_game_get_player(p->game));
 }
 
+static void clamp_pan(pg *p)
+{
+    double lw = p->level->width * (double)p->level->cell_size, lh = p->level->height * (double)p->level->cell_size;
+    p->pan.x = fmin(fmax(p->pan.x, -lw), lw);
+    p->pan.y = fmin(fmax(p->pan.y, -lh), lh);
+}
+
 /* Without a player the arrows (WASD) pan the view: 600 pixels a second. */
 static void pan(pg *p, double seconds)
 {
@@ -690,13 +700,29 @@ static void pan(pg *p, double seconds)
     if (p->keys & NT_INPUT_RIGHT) p->pan.x += d;
     if (p->keys & NT_INPUT_UP) p->pan.y -= d;
     if (p->keys & NT_INPUT_DOWN) p->pan.y += d;
-    double lw = p->level->width * (double)p->level->cell_size, lh = p->level->height * (double)p->level->cell_size;
-    p->pan.x = fmin(fmax(p->pan.x, -lw / 2), lw / 2);
-    p->pan.y = fmin(fmax(p->pan.y, -lh / 2), lh / 2);
+    clamp_pan(p);
 }
 
-/* Camera: the player (interpolated), kept inside the level when the level is larger
- * than the view; a level smaller than the view is centred. */
+/* What the camera follows: the player (interpolated) or the level's centre. */
+static pg_vec cam_base(const pg *p)
+{
+    pg_vec c = {p->level->width * (double)p->level->cell_size / 2, p->level->height * (double)p->level->cell_size / 2};
+    if (has_player(p)) c = pg__player_pos(p, pg__alpha(p));
+    return c;
+}
+
+/* The pan that puts the camera at `cam` (what the clamp left visible, moved by d). */
+static void set_pan_from(pg *p, pg_vec cam, double dx, double dy)
+{
+    pg_vec b = cam_base(p);
+    p->pan.x = cam.x + dx - b.x;
+    p->pan.y = cam.y + dy - b.y;
+    clamp_pan(p);
+}
+
+/* Camera: the player (interpolated) or the level's centre, moved by the pan (middle or
+ * Space+drag, zoom at the cursor, the arrows without a player), kept inside the level
+ * when the level is larger than the view; a level smaller than the view is centred. */
 static void update_camera(pg *p)
 {
     if (!p->level) return;
@@ -706,14 +732,28 @@ static void update_camera(pg *p)
         p->cam.y = p->opt.center_y;
         return;
     }
-    pg_vec c = {lw / 2 + p->pan.x, lh / 2 + p->pan.y};
-    if (has_player(p)) c = pg__player_pos(p, pg__alpha(p));
+    pg_vec c = cam_base(p);
+    c.x += p->pan.x, c.y += p->pan.y;
     double hw = p->view_w / p->zoom / 2, hh = p->view_h / p->zoom / 2;
     if (lw <= 2 * hw) c.x = lw / 2;
     else c.x = fmin(fmax(c.x, hw), lw - hw);
     if (lh <= 2 * hh) c.y = lh / 2;
     else c.y = fmin(fmax(c.y, hh), lh - hh);
     p->cam = c;
+}
+
+/* Zoom by `f` keeping the world point under window point (sx, sy) where it is. */
+static void zoom_at(pg *p, double f, double sx, double sy)
+{
+    update_camera(p);
+    pg_vec before = pg__to_world(p, sx, sy);
+    p->zoom = fmin(16, fmax(0.1, p->zoom * f));
+    update_camera(p);
+    pg_vec after = pg__to_world(p, sx, sy);
+    if (!p->opt.has_center) {
+        set_pan_from(p, p->cam, before.x - after.x, before.y - after.y);
+        update_camera(p);
+    }
 }
 
 pg_vec pg__to_screen(const pg *p, double x, double y)
@@ -759,6 +799,8 @@ static int save_level(pg *p)
         free(p->levels[p->level_index]);
         p->levels[p->level_index] = dup;
     }
+    p->save_mark = p->undo_pos;
+    p->settings_dirty = false;
     p->dirty = false;
     say(p, "saved the level as %s", path);
     return 1;
@@ -985,7 +1027,7 @@ static void switch_friction_model(pg *p)
     }
     record_stop(p);
     p->level->friction_model = probe.friction_model;
-    p->dirty = true;
+    p->dirty = p->settings_dirty = true;
     if (probe.friction_model == NT_FRICTION_N && p->friction > 1) p->friction = 1;
     rebuild(p);
     say(p, "friction model %s: the model belongs to the world, so the world was rebuilt from the level",
@@ -1010,19 +1052,82 @@ static void set_gravity(pg *p, int dir)
         return;
     }
     p->level->gravity = g;
-    p->dirty = true;
+    p->dirty = p->settings_dirty = true;
+}
+
+static const char *action_name(int cmd)
+{
+    return cmd == PG_CONFIRM_QUIT ? "quit" : "switch level";
+}
+
+/* Before an action that would lose unsaved edits: true to go on; otherwise a
+ * confirmation is shown and the action waits for its answer. */
+static bool guard(pg *p, int cmd, int arg)
+{
+    if (!p->dirty) return true;
+    p->confirm_cmd = cmd;
+    p->confirm_arg = arg;
+    return false;
+}
+
+bool pg_request_quit(pg *p)
+{
+    if (guard(p, PG_CONFIRM_QUIT, 0)) p->quit_now = true;
+    return p->quit_now;
+}
+
+bool pg_should_quit(const pg *p) { return p->quit_now; }
+bool pg_confirming(const pg *p) { return p->confirm_cmd >= 0; }
+
+static void do_confirmed(pg *p, int cmd, int arg)
+{
+    if (cmd == PG_CONFIRM_QUIT) {
+        p->quit_now = true;
+        return;
+    }
+    bool dirty = p->dirty;
+    p->dirty = false; /* the user chose: no second question */
+    pg_command(p, (pg_cmd)cmd, arg);
+    if (p->confirm_cmd >= 0) p->dirty = dirty;
 }
 
 void pg_command(pg *p, pg_cmd cmd, int arg)
 {
+    if (p->confirm_cmd >= 0 && cmd != PG_CMD_CONFIRM) return; /* a question waits for Y or N */
     switch (cmd) {
+    case PG_CMD_UNDO: undo(p, false); break;
+    case PG_CMD_TOOL:
+        p->tool = arg >= 0 && arg < PG_TOOL_COUNT ? arg : (p->tool + (arg == -2 ? PG_TOOL_COUNT - 1 : 1)) % PG_TOOL_COUNT;
+        say(p, "left button: %s", p->tool == PG_TOOL_THROW ? "throw bodies" : pg_tool_names[p->tool]);
+        break;
+    case PG_CMD_MATERIAL: p->material = (p->material + (arg < 0 ? 15 : 1)) % 16; break;
+    case PG_CMD_REDO: undo(p, true); break;
+    case PG_CMD_CONFIRM: {
+        int c = p->confirm_cmd, a = p->confirm_arg;
+        if (c < 0) break;
+        p->confirm_cmd = -1;
+        if (arg == 0) {
+            say(p, "kept your edits");
+        } else if (arg == 2) {
+            if (save_level(p)) do_confirmed(p, c, a);
+        } else {
+            do_confirmed(p, c, a);
+        }
+        break;
+    }
     case PG_CMD_RESTART:
         record_stop(p);
         if (rebuild(p)) say(p, "restarted");
         break;
-    case PG_CMD_LEVEL: switch_level(p, arg); break;
-    case PG_CMD_LEVEL_NEXT: switch_level(p, (p->level_index + 1) % p->level_count); break;
-    case PG_CMD_LEVEL_PREV: switch_level(p, (p->level_index + p->level_count - 1) % p->level_count); break;
+    case PG_CMD_LEVEL:
+        if (arg >= 0 && arg < p->level_count && guard(p, cmd, arg)) switch_level(p, arg);
+        break;
+    case PG_CMD_LEVEL_NEXT:
+        if (guard(p, cmd, arg)) switch_level(p, (p->level_index + 1) % p->level_count);
+        break;
+    case PG_CMD_LEVEL_PREV:
+        if (guard(p, cmd, arg)) switch_level(p, (p->level_index + p->level_count - 1) % p->level_count);
+        break;
     case PG_CMD_PAUSE:
         p->paused = !p->paused;
         p->resumed = !p->paused;
@@ -1089,17 +1194,18 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
         }
         record_stop(p);
         p->level->sleep = !p->level->sleep;
-        p->dirty = true;
+        p->dirty = p->settings_dirty = true;
         rebuild(p);
         say(p, "sleeping %s: the world was rebuilt from the level", p->level->sleep ? "on" : "off");
         break;
-    case PG_CMD_ZOOM: {
-        double f = arg > 0 ? 1.25 : arg < 0 ? 0.8 : 0;
-        p->zoom = f > 0 ? p->zoom * f : p->zoom_fit;
-        if (p->zoom < 0.1) p->zoom = 0.1;
-        if (p->zoom > 16) p->zoom = 16;
+    case PG_CMD_ZOOM:
+        if (arg == 0) {
+            p->zoom = p->zoom_fit;
+            p->pan.x = p->pan.y = 0;
+        } else {
+            zoom_at(p, arg > 0 ? 1.25 : 0.8, p->view_x + p->view_w / 2.0, p->view_h / 2.0);
+        }
         break;
-    }
     }
 }
 
@@ -1129,22 +1235,193 @@ static bool mouse_tools_allowed(pg *p)
     return true;
 }
 
-static void paint_cell(pg *p, int x, int y)
+/* ---------------------------------------------------------------- editing, undo */
+
+static void edit_free(pg_edit *e)
+{
+    free(e->cells);
+    free(e->before);
+    free(e->after);
+    memset(e, 0, sizeof *e);
+}
+
+static void history_clear(pg *p)
+{
+    for (int i = 0; i < p->undo_n; i++) edit_free(&p->edits[i]);
+    p->undo_n = p->undo_pos = p->save_mark = 0;
+    p->stroke = false;
+    p->settings_dirty = false;
+}
+
+static void update_dirty(pg *p) { p->dirty = p->undo_pos != p->save_mark || p->settings_dirty; }
+
+/* Start an edit: what lies beyond the current position (redo) is dropped. */
+static pg_edit *edit_begin(pg *p, const char *what)
+{
+    for (int i = p->undo_pos; i < p->undo_n; i++) edit_free(&p->edits[i]);
+    p->undo_n = p->undo_pos;
+    if (p->save_mark > p->undo_n) p->save_mark = -1; /* the saved state cannot come back by undo */
+    if (p->undo_n == 1000) { /* keep the last thousand */
+        edit_free(&p->edits[0]);
+        memmove(p->edits, p->edits + 1, (size_t)(p->undo_n - 1) * sizeof *p->edits);
+        p->undo_n--, p->undo_pos--;
+        if (p->save_mark >= 0) p->save_mark--;
+    }
+    if (p->undo_n == p->undo_cap) {
+        int cap = p->undo_cap ? p->undo_cap * 2 : 64;
+        pg_edit *ne = realloc(p->edits, (size_t)cap * sizeof *ne);
+        if (!ne) return NULL;
+        p->edits = ne;
+        p->undo_cap = cap;
+    }
+    pg_edit *e = &p->edits[p->undo_n++];
+    memset(e, 0, sizeof *e);
+    snprintf(e->what, sizeof e->what, "%s", what);
+    p->undo_pos = p->undo_n;
+    return e;
+}
+
+/* End an edit; one that changed nothing leaves no trace. */
+static void edit_end(pg *p)
+{
+    p->stroke = false;
+    if (p->undo_n > 0) {
+        pg_edit *e = &p->edits[p->undo_n - 1];
+        if (e->n == 0 && !e->before) {
+            edit_free(e);
+            p->undo_n--;
+            p->undo_pos = p->undo_n;
+        }
+    }
+    update_dirty(p);
+}
+
+/* Put a cell's tile, material and flags into the level model and the running world. */
+static void apply_cell(pg *p, int x, int y, uint8_t tile, uint8_t mat, uint8_t flags)
 {
     nt_level *lv = p->level;
-    if (x < 0 || y < 0 || x >= lv->width || y >= lv->height) return;
     size_t k = (size_t)y * (size_t)lv->width + (size_t)x;
-    if (lv->tiles[k] == p->tile) return;
-    if (nt_game_set_tile(p->game, x, y, p->tile) != NT_OK) return;
-    lv->tiles[k] = (uint8_t)p->tile; /* keep the level model in sync: F2 writes it */
-    p->dirty = true;
+    nt_world *w = nt_game_get_world(p->game);
+    if (lv->tiles[k] != tile && nt_game_set_tile(p->game, x, y, tile) == NT_OK) lv->tiles[k] = tile;
+    if (lv->cell_materials && lv->cell_materials[k] != mat && nt_world_set_cell_material(w, x, y, mat) == NT_OK)
+        lv->cell_materials[k] = mat;
+    if (lv->cell_flags && lv->cell_flags[k] != flags && nt_world_set_cell_flags(w, x, y, flags) == NT_OK) lv->cell_flags[k] = flags;
+}
+
+/* The player's spawn must stay free: does cell (x, y) touch the spawned player? */
+static bool spawn_cell(const pg *p, int x, int y)
+{
+    const nt_level *lv = p->level;
+    if (!lv->has_player) return false;
+    double cs = (double)lv->cell_size, r = (double)p->gdef.player.radius * cs;
+    double px = (double)lv->player.x, py = (double)lv->player.y;
+    double nx = fmax(x * cs, fmin(px, (x + 1) * cs)), ny = fmax(y * cs, fmin(py, (y + 1) * cs));
+    return (nx - px) * (nx - px) + (ny - py) * (ny - py) < r * r;
+}
+
+/* Change one cell (tile, material, flags; -1 leaves that part) within the edit begun;
+ * `search`: the cell may already be in this edit (strokes cross cells twice). */
+static void edit_cell(pg *p, int x, int y, int tile, int mat, int flags, bool search)
+{
+    nt_level *lv = p->level;
+    if (!p->game || p->undo_n == 0 || x < 0 || y < 0 || x >= lv->width || y >= lv->height) return;
+    size_t k = (size_t)y * (size_t)lv->width + (size_t)x;
+    uint8_t t0 = lv->tiles[k], m0 = lv->cell_materials ? lv->cell_materials[k] : 0, f0 = lv->cell_flags ? lv->cell_flags[k] : 0;
+    uint8_t t1 = tile >= 0 ? (uint8_t)tile : t0, m1 = mat >= 0 ? (uint8_t)mat : m0, f1 = flags >= 0 ? (uint8_t)flags : f0;
+    if (t0 == t1 && m0 == m1 && f0 == f1) return;
+    if (t1 != NT_TILE_EMPTY && spawn_cell(p, x, y)) {
+        say(p, "the player's spawn stays free: no tile over cell (%d, %d) (move the spawn first)", x, y);
+        return;
+    }
+    apply_cell(p, x, y, t1, m1, f1);
+    pg_edit *e = &p->edits[p->undo_n - 1];
+    if (search)
+        for (int i = e->n - 1; i >= 0; i--)
+            if (e->cells[i].x == x && e->cells[i].y == y) {
+                e->cells[i].tile1 = t1, e->cells[i].mat1 = m1, e->cells[i].flag1 = f1;
+                return;
+            }
+    if (e->n == e->cap) {
+        int cap = e->cap ? e->cap * 2 : 64;
+        pg_cell_edit *nc = realloc(e->cells, (size_t)cap * sizeof *nc);
+        if (!nc) return;
+        e->cells = nc;
+        e->cap = cap;
+    }
+    pg_cell_edit c = {x, y, t0, t1, m0, m1, f0, f1};
+    e->cells[e->n++] = c;
+}
+
+static char *level_text(const nt_level *lv)
+{
+    size_t n = nt_level_write(lv, NULL, 0);
+    char *t = malloc(n + 1);
+    if (t) nt_level_write(lv, t, n + 1);
+    return t;
+}
+
+/* Replace the level model by a text of it (undo and redo of object edits) and rebuild. */
+static int set_level_text(pg *p, const char *text)
+{
+    nt_level *lv;
+    nt_text_error e;
+    if (nt_level_parse(p->level_path, text, strlen(text), &lv, &e) != NT_OK) {
+        say(p, "internal error: %s", e.message);
+        return 0;
+    }
+    nt_game *g = NULL;
+    if (nt_game_create(lv, &p->gdef, &g) != NT_OK) {
+        nt_level_destroy(lv);
+        say(p, "cannot build the level");
+        return 0;
+    }
+    nt_game_destroy(p->game);
+    nt_level_destroy(p->level);
+    p->game = g;
+    p->level = lv;
+    clear_world_extras(p);
+    classify_bodies(p);
+    return 1;
+}
+
+static void undo(pg *p, bool redo)
+{
+    if (p->recording) {
+        say(p, "not while recording (F5 stops the recording)");
+        return;
+    }
+    if (redo ? p->undo_pos >= p->undo_n : p->undo_pos <= 0) {
+        say(p, "nothing to %s", redo ? "redo" : "undo");
+        return;
+    }
+    pg_edit *e = &p->edits[redo ? p->undo_pos : p->undo_pos - 1];
+    if (e->before) {
+        if (!set_level_text(p, redo ? e->after : e->before)) return;
+    } else if (redo) {
+        for (int i = 0; i < e->n; i++) apply_cell(p, e->cells[i].x, e->cells[i].y, e->cells[i].tile1, e->cells[i].mat1, e->cells[i].flag1);
+    } else {
+        for (int i = e->n - 1; i >= 0; i--)
+            apply_cell(p, e->cells[i].x, e->cells[i].y, e->cells[i].tile0, e->cells[i].mat0, e->cells[i].flag0);
+    }
+    p->undo_pos += redo ? 1 : -1;
+    update_dirty(p);
+    say(p, "%s: %s (%d of %d)", redo ? "redone" : "undone", e->what, p->undo_pos, p->undo_n);
+}
+
+/* The tile a right drag paints: the selected one, EMPTY with Shift (erase). */
+static int paint_tile(const pg *p) { return (p->mods & PG_MOD_SHIFT) ? NT_TILE_EMPTY : p->tile; }
+
+static void cell_at(const pg *p, double sx, double sy, int *x, int *y)
+{
+    pg_vec w = pg__to_world(p, sx, sy);
+    double cs = (double)p->level->cell_size;
+    *x = (int)floor(w.x / cs), *y = (int)floor(w.y / cs);
 }
 
 static void paint_to(pg *p, double sx, double sy)
 {
-    pg_vec w = pg__to_world(p, sx, sy);
-    double cs = (double)p->level->cell_size;
-    int x = (int)floor(w.x / cs), y = (int)floor(w.y / cs);
+    int x, y;
+    cell_at(p, sx, sy, &x, &y);
     /* Every cell on the way from the last painted one, so a fast drag leaves no gaps. */
     int x0 = p->paint_x, y0 = p->paint_y;
     if (x0 == INT_MIN) x0 = x, y0 = y;
@@ -1153,9 +1430,230 @@ static void paint_to(pg *p, double sx, double sy)
     for (int i = 0; i <= n; i++) {
         int cx = n ? x0 + (int)lround((double)(x - x0) * i / n) : x;
         int cy = n ? y0 + (int)lround((double)(y - y0) * i / n) : y;
-        paint_cell(p, cx, cy);
+        edit_cell(p, cx, cy, paint_tile(p), -1, -1, true);
     }
     p->paint_x = x, p->paint_y = y;
+}
+
+/* ---------------------------------------------------------------- objects */
+
+const char *const pg_tool_names[PG_TOOL_COUNT] = {"throw", "gold", "mine", "exit", "spawn", "one-way", "material", "platform"};
+
+/* A name for a new object: PREFIX1, PREFIX2, ... not yet in the level. */
+static void fresh_name(const nt_level *lv, const char *prefix, char *out, size_t cap)
+{
+    for (int i = 1; i < 100000; i++) {
+        snprintf(out, cap, "%s%d", prefix, i);
+        if (nt_level_find_body(lv, out) < 0 && nt_level_find_region(lv, out) < 0 && nt_level_find_path(lv, out) < 0) return;
+    }
+}
+
+/* An object edit: the level's text before, the change (on the level model), the text
+ * after; the game is rebuilt from it (the level restarts). */
+static pg_edit *object_edit_begin(pg *p, const char *what)
+{
+    pg_edit *e = edit_begin(p, what);
+    if (!e) return NULL;
+    e->before = level_text(p->level);
+    if (!e->before) {
+        edit_end(p);
+        return NULL;
+    }
+    return e;
+}
+
+static void object_edit_end(pg *p, pg_edit *e, bool changed)
+{
+    if (changed) {
+        e->after = level_text(p->level);
+        if (!e->after || !set_level_text(p, e->after)) changed = false;
+    }
+    if (!changed) {
+        set_level_text(p, e->before);
+        free(e->before);
+        e->before = NULL;
+    }
+    edit_end(p);
+}
+
+static bool cell_solid(const pg *p, int x, int y)
+{
+    const nt_level *lv = p->level;
+    return x < 0 || y < 0 || x >= lv->width || y >= lv->height || lv->tiles[(size_t)y * (size_t)lv->width + (size_t)x] != NT_TILE_EMPTY;
+}
+
+/* Place an object of the tool's kind at world point w (cell x, y). */
+static void place_object(pg *p, pg_vec w)
+{
+    nt_level *lv = p->level;
+    double cs = (double)lv->cell_size;
+    int x = (int)floor(w.x / cs), y = (int)floor(w.y / cs);
+    if (x < 0 || y < 0 || x >= lv->width || y >= lv->height) return;
+    nt_vec2 c = nt_v2((nt_real)((x + 0.5) * cs), (nt_real)((y + 0.5) * cs));
+    if (p->tool == PG_TOOL_ONE_WAY || p->tool == PG_TOOL_MATERIAL) {
+        size_t k = (size_t)y * (size_t)lv->width + (size_t)x;
+        if (!edit_begin(p, p->tool == PG_TOOL_ONE_WAY ? "one-way flag" : "material")) return;
+        if (p->tool == PG_TOOL_ONE_WAY) edit_cell(p, x, y, -1, -1, lv->cell_flags[k] ^ NT_CELL_ONE_WAY, false);
+        else edit_cell(p, x, y, -1, lv->cell_materials[k] == p->material ? 0 : p->material, -1, false);
+        edit_end(p);
+        return;
+    }
+    char name[NT_LEVEL_NAME_MAX];
+    nt_text_error err;
+    nt_status s = NT_OK;
+    pg_edit *e = object_edit_begin(p, pg_tool_names[p->tool]);
+    if (!e) return;
+    if (p->tool == PG_TOOL_SPAWN) {
+        if (cell_solid(p, x, y)) {
+            say(p, "the spawn must be in an empty cell");
+            object_edit_end(p, e, false);
+            return;
+        }
+        lv->has_player = true;
+        lv->player = c;
+    } else if (p->tool == PG_TOOL_EXIT) {
+        int r = -1;
+        for (int i = 0; i < lv->region_count && r < 0; i++)
+            if (lv->regions[i].kind == NT_REGION_EXIT) r = i;
+        nt_level_region g;
+        memset(&g, 0, sizeof g);
+        g.kind = NT_REGION_EXIT;
+        double hw = 0.75 * cs, hh = cs;
+        if (r >= 0) hw = 0.5 * (double)(lv->regions[r].hi.x - lv->regions[r].lo.x), hh = 0.5 * (double)(lv->regions[r].hi.y - lv->regions[r].lo.y);
+        /* Standing on the floor of the cell clicked. */
+        g.lo = nt_v2((nt_real)((x + 0.5) * cs - hw), (nt_real)((y + 1) * cs - 2 * hh));
+        g.hi = nt_v2((nt_real)((x + 0.5) * cs + hw), (nt_real)((y + 1) * cs));
+        if (r >= 0) {
+            lv->regions[r].lo = g.lo, lv->regions[r].hi = g.hi;
+        } else {
+            fresh_name(lv, "exit", g.name, sizeof g.name);
+            s = nt_level_add_region(lv, &g, &err);
+        }
+    } else {
+        nt_level_body b = nt_level_default_body(lv);
+        b.position = c;
+        b.type = NT_BODY_STATIC;
+        if (p->tool == PG_TOOL_GOLD) {
+            fresh_name(lv, "gold", name, sizeof name);
+            b.shape = nt_shape_circle((nt_real)(cs / 4));
+            b.sensor = true;
+            b.score = 1;
+        } else if (p->tool == PG_TOOL_MINE) {
+            fresh_name(lv, "mine", name, sizeof name);
+            b.shape = nt_shape_circle((nt_real)(cs / 6));
+            b.sensor = true;
+            b.deadly = true;
+        } else { /* a platform going up and down 4 cells above where it is placed */
+            nt_level_path q;
+            memset(&q, 0, sizeof q);
+            fresh_name(lv, "plat", q.name, sizeof q.name);
+            q.mode = NT_PATH_PINGPONG;
+            q.speed = (nt_real)(2 * cs);
+            q.wait = 1;
+            q.point_count = 2;
+            q.points[0] = c;
+            q.points[1] = nt_v2(c.x, (nt_real)((double)c.y - 4 * cs));
+            int pi = -1;
+            s = nt_level_add_path(lv, &q, &pi, &err);
+            snprintf(name, sizeof name, "%s", q.name);
+            b.type = NT_BODY_KINEMATIC;
+            b.shape = nt_shape_aabb((nt_real)(cs / 2), (nt_real)(cs / 6));
+            b.path = pi;
+        }
+        snprintf(b.name, sizeof b.name, "%s", name);
+        if (s == NT_OK) s = nt_level_add_body(lv, &b, NULL, &err);
+    }
+    if (s != NT_OK) say(p, "cannot place it: %s", err.message);
+    else say(p, "placed %s at cell (%d, %d); the level restarted with it (Ctrl+Z undoes)", pg_tool_names[p->tool], x, y);
+    object_edit_end(p, e, s == NT_OK);
+}
+
+/* The level object under world point w that the tools move: a gold, mine or platform
+ * body, the exit, the spawn. Returns its tool kind and index, or 0. */
+static int object_at(const pg *p, pg_vec w, int *index)
+{
+    const nt_level *lv = p->level;
+    double cs = (double)lv->cell_size;
+    if (lv->has_player && hypot(w.x - (double)lv->player.x, w.y - (double)lv->player.y) < 0.5 * cs) return *index = 0, PG_TOOL_SPAWN;
+    for (int i = lv->body_count - 1; i >= 0; i--) {
+        const nt_level_body *b = &lv->bodies[i];
+        if (b->is_template || b->repeat_x * b->repeat_y != 1) continue;
+        int k = kind_of_level_body(b);
+        if (k == PG_KIND_PLAIN) continue;
+        nt_vec2 at = b->path >= 0 ? nt_path_position(&lv->paths[b->path], 0, (double)b->phase) : b->position;
+        double hx = fmax((double)b->shape.half.x, 0.3 * cs), hy = fmax((double)b->shape.half.y, 0.3 * cs);
+        if (fabs(w.x - (double)at.x) <= hx && fabs(w.y - (double)at.y) <= hy) {
+            *index = i;
+            return k == PG_KIND_GOLD ? PG_TOOL_GOLD : k == PG_KIND_MINE ? PG_TOOL_MINE : PG_TOOL_PLATFORM;
+        }
+    }
+    for (int i = 0; i < lv->region_count; i++) {
+        const nt_level_region *g = &lv->regions[i];
+        if (g->kind == NT_REGION_EXIT && w.x >= (double)g->lo.x && w.x <= (double)g->hi.x && w.y >= (double)g->lo.y &&
+            w.y <= (double)g->hi.y)
+            return *index = i, PG_TOOL_EXIT;
+    }
+    return 0;
+}
+
+/* Move the object grabbed (p->moving) by (dx, dy) world units. */
+static void move_object(pg *p, double dx, double dy)
+{
+    nt_level *lv = p->level;
+    dx = round(dx), dy = round(dy);
+    if (dx == 0 && dy == 0) return;
+    pg_edit *e = object_edit_begin(p, "move");
+    if (!e) return;
+    int i = p->moving_index;
+    if (p->moving == PG_TOOL_SPAWN) {
+        double cs = (double)lv->cell_size;
+        double nx = (double)lv->player.x + dx, ny = (double)lv->player.y + dy;
+        if (cell_solid(p, (int)floor(nx / cs), (int)floor(ny / cs))) {
+            say(p, "the spawn must be in an empty cell");
+            object_edit_end(p, e, false);
+            return;
+        }
+        lv->player = nt_v2((nt_real)nx, (nt_real)ny);
+    } else if (p->moving == PG_TOOL_EXIT) {
+        nt_level_region *g = &lv->regions[i];
+        g->lo = nt_v2((nt_real)((double)g->lo.x + dx), (nt_real)((double)g->lo.y + dy));
+        g->hi = nt_v2((nt_real)((double)g->hi.x + dx), (nt_real)((double)g->hi.y + dy));
+    } else {
+        nt_level_body *b = &lv->bodies[i];
+        b->position = nt_v2((nt_real)((double)b->position.x + dx), (nt_real)((double)b->position.y + dy));
+        if (b->path >= 0) {
+            nt_level_path *q = &lv->paths[b->path];
+            for (int k = 0; k < q->point_count; k++)
+                q->points[k] = nt_v2((nt_real)((double)q->points[k].x + dx), (nt_real)((double)q->points[k].y + dy));
+            q->center = nt_v2((nt_real)((double)q->center.x + dx), (nt_real)((double)q->center.y + dy));
+        }
+    }
+    nt_text_error err;
+    bool ok = nt_level_validate(lv, &err) == NT_OK;
+    if (!ok) say(p, "cannot move it there: %s", err.message);
+    object_edit_end(p, e, ok);
+}
+
+/* Ctrl+right-drag: every cell of the rectangle from its first cell to (sx, sy). */
+static void fill_rect_to(pg *p, double sx, double sy)
+{
+    int x, y;
+    cell_at(p, sx, sy, &x, &y);
+    const nt_level *lv = p->level;
+    int x0 = p->rect_x < x ? p->rect_x : x, x1 = p->rect_x < x ? x : p->rect_x;
+    int y0 = p->rect_y < y ? p->rect_y : y, y1 = p->rect_y < y ? y : p->rect_y;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 >= lv->width) x1 = lv->width - 1;
+    if (y1 >= lv->height) y1 = lv->height - 1;
+    if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > 262144) {
+        say(p, "a rectangle of at most 262,144 cells");
+        return;
+    }
+    if (!edit_begin(p, "rectangle")) return;
+    for (int cy = y0; cy <= y1; cy++)
+        for (int cx = x0; cx <= x1; cx++) edit_cell(p, cx, cy, paint_tile(p), -1, -1, false);
+    edit_end(p);
 }
 
 static void throw_body(pg *p, pg_vec from, pg_vec to)
@@ -1202,12 +1700,21 @@ static void delete_at(pg *p, double sx, double sy)
     if (s != NT_OK) say(p, "cannot delete that body: %s", nt_status_string(s));
 }
 
+void pg_set_mods(pg *p, unsigned mods) { p->mods = mods; }
+
 void pg_mouse_move(pg *p, double x, double y)
 {
     update_camera(p); /* the view the mouse points into */
     p->mx = x, p->my = y;
     p->mouse_seen = true;
-    if (p->drag == PG_MOUSE_RIGHT && p->game && !p->recording && pg__in_view(p, x, y)) paint_to(p, x, y);
+    if (p->drag == PG_MOUSE_MIDDLE || p->drag == PG_MOUSE_PAN) {
+        double dx = x - p->press_x, dy = y - p->press_y;
+        if (fabs(dx) > 3 || fabs(dy) > 3) p->moved = true;
+        set_pan_from(p, p->grab_cam, -dx / p->zoom, -dy / p->zoom);
+        update_camera(p);
+        return;
+    }
+    if (p->drag == PG_MOUSE_RIGHT && !p->rect && p->stroke && p->game && !p->recording && pg__in_view(p, x, y)) paint_to(p, x, y);
 }
 
 void pg_mouse_button(pg *p, int button, bool down, double x, double y)
@@ -1231,29 +1738,78 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
         return;
     }
     if (!down) {
-        if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->game && !p->recording)
+        if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->moving) {
+            pg_vec w = pg__to_world(p, x, y);
+            move_object(p, w.x - p->moving_from.x, w.y - p->moving_from.y);
+            p->moving = 0;
+        } else if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->game && !p->recording)
             throw_body(p, p->drag_from, pg__to_world(p, x, y));
+        if (button == PG_MOUSE_MIDDLE && p->drag == PG_MOUSE_MIDDLE && !p->moved && p->game && mouse_tools_allowed(p))
+            delete_at(p, p->press_x, p->press_y); /* a click, not a pan */
+        if (button == PG_MOUSE_RIGHT && p->drag == PG_MOUSE_RIGHT) {
+            if (p->rect) fill_rect_to(p, x, y);
+            else if (p->stroke) edit_end(p);
+            p->rect = false;
+        }
         if (button == p->drag) p->drag = 0;
         return;
     }
     if (!pg__in_view(p, x, y)) return;
+    if (button == PG_MOUSE_MIDDLE || button == PG_MOUSE_PAN) { /* pan (a middle click deletes on release) */
+        p->drag = button;
+        p->grab_cam = p->cam;
+        p->press_x = x, p->press_y = y;
+        p->moved = false;
+        return;
+    }
     if (!mouse_tools_allowed(p)) return;
+    if (button == PG_MOUSE_LEFT && p->tool != PG_TOOL_THROW) {
+        pg_vec w = pg__to_world(p, x, y);
+        int idx = 0, k = p->tool == PG_TOOL_ONE_WAY || p->tool == PG_TOOL_MATERIAL ? 0 : object_at(p, w, &idx);
+        if (k) { /* grab it: moved where the button is released */
+            p->drag = PG_MOUSE_LEFT;
+            p->moving = k;
+            p->moving_index = idx;
+            p->moving_from = w;
+        } else {
+            place_object(p, w);
+        }
+        return;
+    }
     if (button == PG_MOUSE_LEFT) {
         p->drag = PG_MOUSE_LEFT;
         p->drag_from = pg__to_world(p, x, y);
     } else if (button == PG_MOUSE_RIGHT) {
+        int cx, cy;
+        cell_at(p, x, y, &cx, &cy);
+        if (p->mods & PG_MOD_ALT) { /* eyedropper */
+            if (cx >= 0 && cy >= 0 && cx < p->level->width && cy < p->level->height) {
+                p->tile = p->level->tiles[(size_t)cy * (size_t)p->level->width + (size_t)cx];
+                const nt_tile_info *ti = nt_tile_get_info(p->tile);
+                say(p, "picked %s from cell (%d, %d)", ti ? ti->name : "?", cx, cy);
+            }
+            return;
+        }
         p->drag = PG_MOUSE_RIGHT;
+        p->rect = (p->mods & PG_MOD_CTRL) != 0;
+        if (p->rect) {
+            p->rect_x = cx, p->rect_y = cy;
+            return;
+        }
+        if (!edit_begin(p, (p->mods & PG_MOD_SHIFT) ? "erase" : "paint")) return;
+        p->stroke = true;
         p->paint_x = INT_MIN;
         paint_to(p, x, y);
-    } else if (button == PG_MOUSE_MIDDLE) {
-        delete_at(p, x, y);
     }
 }
 
+/* The wheel zooms at the cursor (at the view's centre when the cursor is elsewhere). */
 void pg_mouse_wheel(pg *p, double dy)
 {
-    if (dy > 0) pg_command(p, PG_CMD_ZOOM, 1);
-    else if (dy < 0) pg_command(p, PG_CMD_ZOOM, -1);
+    if (dy == 0) return;
+    double f = dy > 0 ? 1.25 : 0.8;
+    if (p->mouse_seen && pg__in_view(p, p->mx, p->my)) zoom_at(p, f, p->mx, p->my);
+    else zoom_at(p, f, p->view_x + p->view_w / 2.0, p->view_h / 2.0);
 }
 
 /* ---------------------------------------------------------------- create / destroy */
@@ -1286,6 +1842,8 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
     p->win_w = 1024, p->win_h = 640;
     p->gdef = nt_default_game_def();
     p->paint_x = INT_MIN;
+    p->confirm_cmd = -1;
+    p->material = 1;
     snprintf(p->save_dir, sizeof p->save_dir, "%s", opt->save_dir ? opt->save_dir : ".");
     nt_replay *tmp;
     if (nt_replay_create(1, &tmp) != NT_OK) {
@@ -1401,6 +1959,8 @@ void pg_destroy(pg *p)
     free(p->prev_gen);
     free(p->kind);
     free(p->kind_gen);
+    history_clear(p);
+    free(p->edits);
     free(p->pairs);
     free(p);
 }
@@ -1413,6 +1973,10 @@ void pg_summary(const pg *p, char *out, size_t cap)
                      w ? nt_world_get_awake_count(w) : 0, st.score);
     if (n > 0 && (size_t)n < cap && st.has_player)
         n += snprintf(out + n, cap - (size_t)n, "  player %s", st.complete ? "complete" : st.alive ? "alive" : "dead");
+    if (n > 0 && (size_t)n < cap)
+        n += snprintf(out + n, cap - (size_t)n, "  level %s%s", p->level_path, p->dirty ? " (edited)" : "");
+    if (n > 0 && (size_t)n < cap && p->confirm_cmd >= 0)
+        n += snprintf(out + n, cap - (size_t)n, "  asking: discard the edits and %s?", action_name(p->confirm_cmd));
     if (n > 0 && (size_t)n < cap && p->lab && p->has_collision)
         snprintf(out + n, cap - (size_t)n,
                  "  last collision tick %d: momentum (%.2f, %.2f) -> (%.2f, %.2f), kinetic energy %.1f -> %.1f",

@@ -75,9 +75,24 @@ typedef enum pg_cmd {
     PG_CMD_GRAVITY,     /* arg: +1 / -1: gravity's y by a tenth of the level's (or 32) */
     PG_CMD_DT,          /* cycle the tick: 1/40, 1/60, 1/120, 1/20 s */
     PG_CMD_SLEEP,       /* sleeping on / off (rebuilds the world) */
+    PG_CMD_UNDO,
+    PG_CMD_REDO,
+    PG_CMD_CONFIRM,     /* arg: 1 yes (discard and go on), 0 no (keep the edits), 2 save first */
+    PG_CMD_TOOL,        /* arg: a PG_TOOL_*, or -1 / -2: next / previous (F6 / Shift+F6) */
+    PG_CMD_MATERIAL,    /* arg: +1 / -1: the material tool's material */
 } pg_cmd;
 
-enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3 };
+enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3, PG_MOUSE_PAN = 4 /* Space + left */ };
+/* Modifier keys held (pg_set_mods): Shift+right-drag erases, Ctrl+right-drag fills a
+ * rectangle, Alt+right-click picks the tile under the mouse (eyedropper). */
+enum { PG_MOD_SHIFT = 1, PG_MOD_CTRL = 2, PG_MOD_ALT = 4 };
+/* Tools of the left button (PG_CMD_TOOL): throw bodies (and inspect them), or place and
+ * move level objects. */
+enum { PG_TOOL_THROW, PG_TOOL_GOLD, PG_TOOL_MINE, PG_TOOL_EXIT, PG_TOOL_SPAWN, PG_TOOL_ONE_WAY, PG_TOOL_MATERIAL,
+       PG_TOOL_PLATFORM, PG_TOOL_COUNT };
+extern const char *const pg_tool_names[PG_TOOL_COUNT];
+/* pg_command's confirmation target for quitting. */
+#define PG_CONFIRM_QUIT 1000
 
 /* ---------------------------------------------------------------- options */
 
@@ -120,6 +135,15 @@ void pg_set_window(pg *p, int w, int h);
 void pg_set_keys(pg *p, uint32_t keys);
 
 void pg_command(pg *p, pg_cmd cmd, int arg);
+
+void pg_set_mods(pg *p, unsigned mods);
+
+/* Ask to quit: true when nothing would be lost (or the user confirmed); otherwise a
+ * confirmation is shown and pg_should_quit turns true once it is answered yes. */
+bool pg_request_quit(pg *p);
+bool pg_should_quit(const pg *p);
+/* A confirmation is waiting: keys go to it (Y, N / Esc, F2). */
+bool pg_confirming(const pg *p);
 
 /* Mouse in window pixels. */
 void pg_mouse_move(pg *p, double x, double y);

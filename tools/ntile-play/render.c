@@ -532,6 +532,15 @@ static void draw_tools(rctx *r)
         if (p->throw_circle) pg_circle(r->c, a.x, a.y, rad, PG_COLOR_SELECT);
         else pg_rect(r->c, (int)(a.x - rad), (int)(a.y - rad), (int)(a.x + rad), (int)(a.y + rad), PG_COLOR_SELECT);
     }
+    if (p->drag == PG_MOUSE_RIGHT && p->rect) {
+        double cs = (double)p->level->cell_size;
+        pg_vec m = pg__to_world(p, p->mx, p->my);
+        int cx = (int)floor(m.x / cs), cy = (int)floor(m.y / cs);
+        int x0 = cx < p->rect_x ? cx : p->rect_x, x1 = cx < p->rect_x ? p->rect_x : cx;
+        int y0 = cy < p->rect_y ? cy : p->rect_y, y1 = cy < p->rect_y ? p->rect_y : cy;
+        pg_vec a = pg__to_screen(p, x0 * cs, y0 * cs), b = pg__to_screen(p, (x1 + 1) * cs, (y1 + 1) * cs);
+        pg_rect(r->c, (int)floor(a.x), (int)floor(a.y), (int)floor(b.x) + 1, (int)floor(b.y) + 1, PG_COLOR_SELECT);
+    }
     if (pg__in_view(p, p->mx, p->my) && !p->recording) {
         /* The cell a right-click paints. */
         pg_vec w = pg__to_world(p, p->mx, p->my);
@@ -733,8 +742,18 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
     stepper(&k, buf, PG_CMD_BOUNCE);
     snprintf(buf, sizeof buf, "friction %.2f (; ')", p->friction);
     stepper(&k, buf, PG_CMD_FRICTION);
+    heading(&k, "Edit (Ctrl+Z undo, Ctrl+Y redo)");
     const nt_tile_info *ti = nt_tile_get_info(p->tile);
     linef(&k, PG_COLOR_TEXT, "paint %s (Tab, strip)", ti ? ti->name : "?");
+    for (int t = 0; t < PG_TOOL_COUNT; t++) {
+        char lab[64];
+        snprintf(lab, sizeof lab, "%s%s", t == 0 ? "left: throw / inspect" : "place / move ", t == 0 ? "" : pg_tool_names[t]);
+        checkbox(&k, p->tool == t, lab, PG_CMD_TOOL, t);
+    }
+    snprintf(buf, sizeof buf, "material %d: f %.2f b %.2f", p->material, (double)lv->materials[p->material].friction,
+             (double)lv->materials[p->material].bounce);
+    stepper(&k, buf, PG_CMD_MATERIAL);
+    linef(&k, 0x98a0a8u, "undo %d / %d", p->undo_pos, p->undo_n);
 
     heading(&k, "Gizmos");
     for (int g = 0; g < PG_GZ_COUNT; g++) {
@@ -834,6 +853,24 @@ static void draw_help(pg *p, pg_canvas *c, int ts)
     pg_text(c, x, y, text, PG_COLOR_TEXT, ts);
 }
 
+/* The question before discarding edits. */
+static void draw_confirm(pg *p, pg_canvas *c, int ts)
+{
+    if (p->confirm_cmd < 0) return;
+    char text[600];
+    const char *act = p->confirm_cmd == PG_CONFIRM_QUIT ? "quit" : "switch level";
+    snprintf(text, sizeof text,
+             "Unsaved edits to %.200s\n\nY       discard them and %s\nN, Esc  keep editing\nF2      save them, then %s", p->level_path,
+             act, act);
+    int tw = pg_text_width(text, ts), th = 5 * PG_CHAR_H * ts;
+    int x = p->view_x + (p->view_w - tw) / 2, y = (p->view_h - th) / 2;
+    if (x < 8) x = 8;
+    pg_fill_rect(c, x - 14, y - 14, x + tw + 14, y + th + 14, PG_COLOR_PANEL_BG);
+    pg_rect(c, x - 14, y - 14, x + tw + 14, y + th + 14, PG_COLOR_CONFIRM);
+    pg_rect(c, x - 13, y - 13, x + tw + 13, y + th + 13, PG_COLOR_CONFIRM);
+    pg_text(c, x, y, text, PG_COLOR_CONFIRM, ts);
+}
+
 /* ---------------------------------------------------------------- the frame */
 
 void pg_render(pg *p, pg_canvas *c, double fps)
@@ -912,4 +949,5 @@ void pg_render(pg *p, pg_canvas *c, double fps)
         draw_panel(p, c, fps, ts);
         if (p->help) draw_help(p, c, ts);
     }
+    draw_confirm(p, c, ts);
 }

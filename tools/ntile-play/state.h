@@ -12,6 +12,21 @@
 #define PG_STRIP_COLS 2
 #define PG_STRIP_ROWS 17
 
+/* One cell's change, for undo. */
+typedef struct pg_cell_edit {
+    int x, y;
+    uint8_t tile0, tile1, mat0, mat1, flag0, flag1;
+} pg_cell_edit;
+
+/* One undoable edit: cell changes (applied to the running game), or a change of the
+ * level's objects (the level's text before and after; undoing rebuilds the game). */
+typedef struct pg_edit {
+    pg_cell_edit *cells;
+    int n, cap;
+    char *before, *after;
+    char what[48];
+} pg_edit;
+
 struct pg {
     pg_options opt;
     char save_dir[PG_PATH_MAX];
@@ -58,7 +73,29 @@ struct pg {
     double bounce, friction;
     int tile; /* palette selection */
 
+    /* Editing: undo history (edits[0 .. undo_n), the first undo_pos of them applied),
+     * the position of the last save, an edit in progress (a stroke). */
+    pg_edit *edits;
+    int undo_n, undo_pos, undo_cap, save_mark;
+    bool stroke, settings_dirty;
+    /* A confirmation waiting for Y / N (discarding edits): the action to do on Y. */
+    int confirm_cmd, confirm_arg; /* PG_CMD_* or PG_CONFIRM_QUIT; -1: none */
+    bool quit_now;
+
+    /* The left button's tool: throw (and inspect), or place / move a kind of object. */
+    int tool;      /* PG_TOOL_* */
+    int material;  /* the material the material tool paints, 1..15 (0 clears) */
+    int moving;    /* an object being moved: PG_TOOL_* of it, or 0 */
+    int moving_index; /* its index (level body or region) */
+    pg_vec moving_from;
+
     /* Mouse. */
+    unsigned mods;      /* PG_MOD_* held */
+    bool rect;          /* the right drag fills a rectangle (Ctrl) */
+    int rect_x, rect_y; /* its first cell */
+    pg_vec grab_cam;    /* camera and pointer when a pan drag started */
+    double press_x, press_y;
+    bool moved;
     double mx, my;      /* window pixels */
     bool mouse_seen;
     int drag;           /* button held in the view: 0, PG_MOUSE_LEFT, PG_MOUSE_RIGHT */
