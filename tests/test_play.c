@@ -1019,6 +1019,195 @@ static void test_object_kinds(void **state)
 }
 
 
+
+/* ---------- editing ---------- */
+
+/* Five edits of the lab through scripted input: a painted stroke, an erase
+ * (Shift+right), a rectangle (Ctrl+right-drag), a one-way flag and a material (the
+ * left button's tools, F6). */
+#define EDITS_SCRIPT                                                                                                          \
+    "1 mouse down right 264 264\n2 mouse move 312 264\n3 mouse move 360 264\n4 mouse up right 360 264\n"                     \
+    "5 down LShift\n6 mouse down right 24 264\n7 mouse up right 24 264\n8 up LShift\n"                                      \
+    "9 down LCtrl\n10 mouse down right 504 120\n11 mouse move 600 168\n12 mouse up right 600 168\n13 up LCtrl\n"            \
+    "14 press F6\n16 press F6\n18 press F6\n20 press F6\n22 press F6\n24 mouse down left 504 120\n24 mouse up left 504 120\n" \
+    "26 press F6\n28 mouse down left 552 120\n28 mouse up left 552 120\n"
+
+static char *save_after(const char *name, const char *script)
+{
+    char sname[64], lname[64];
+    snprintf(sname, sizeof sname, "%s.script", name);
+    snprintf(lname, sizeof lname, "%s.ntl", name);
+    scratch_write_text(sname, script);
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path(sname), "--frames", "60", LAB_VIEW, "--save",
+                             scratch_path(lname), NULL});
+    return scratch_read(scratch_path(lname), NULL);
+}
+
+/* Undo takes every edit back: the level saved after five edits and five Ctrl+Z is
+ * byte for byte the one saved without edits; five Ctrl+Y give the edited one again. */
+static void test_undo_redo_round_trip(void **state)
+{
+    (void)state;
+    char *orig = save_after("rt0", "55 press F2\n");
+    char *edited = save_after("rt1", EDITS_SCRIPT "55 press F2\n");
+    char *undone = save_after("rt2", EDITS_SCRIPT "30 down LCtrl\n31 press Z\n33 press Z\n35 press Z\n37 press Z\n39 press Z\n"
+                                                  "41 up LCtrl\n55 press F2\n");
+    char *redone = save_after("rt3", EDITS_SCRIPT "30 down LCtrl\n31 press Z\n33 press Z\n35 press Z\n37 press Z\n39 press Z\n"
+                                                  "41 press Y\n43 press Y\n45 press Y\n47 press Y\n49 press Y\n51 up LCtrl\n"
+                                                  "55 press F2\n");
+    if (strcmp(orig, edited) == 0) fail_msg("the edits changed nothing:\n%s", edited);
+    /* Each edit is in the saved text: the paint, the erased wall, the rectangle, the flag, the material. */
+    nt_level *lv = load_level(scratch_path("rt1.ntl"));
+    assert_int_equal(lv->tiles[5 * lv->width + 6], NT_TILE_FULL);
+    assert_int_equal(lv->tiles[5 * lv->width + 0], NT_TILE_EMPTY);
+    assert_int_equal(lv->tiles[3 * lv->width + 12], NT_TILE_FULL);
+    assert_int_equal(lv->cell_flags[2 * lv->width + 10], NT_CELL_ONE_WAY);
+    assert_int_equal(lv->cell_materials[2 * lv->width + 11], 1);
+    nt_level_destroy(lv);
+    if (strcmp(orig, undone) != 0) fail_msg("after undoing every edit the level differs:\n%s\nexpected:\n%s", undone, orig);
+    if (strcmp(edited, redone) != 0) fail_msg("after redoing every edit the level differs:\n%s\nexpected:\n%s", redone, edited);
+    free(orig);
+    free(edited);
+    free(undone);
+    free(redone);
+}
+
+/* A level switch or Esc with unsaved edits asks first (the question drawn over the
+ * view); N keeps the edits, Y goes on; without edits nothing is asked. */
+static void test_confirm_before_discard(void **state)
+{
+    (void)state;
+    const char *shot = scratch_path("confirm.bmp");
+    scratch_write_text("ask.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n");
+    scratch_write_text("no.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n6 press N\n");
+    scratch_write_text("yes.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n6 press Y\n");
+    scratch_write_text("esc.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press Escape\n");
+    scratch_write_text("esc-clean.script", "3 press Escape\n");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("ask.script"), "--frames", "8", LAB_VIEW,
+                                  "--screenshot", shot, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/lab.ntl (edited)  asking: discard the edits and switch level?");
+    run_free(&r);
+    image im = load_bmp(shot);
+    assert_true(count_color(&im, 0, 0, im.w, im.h, PG_COLOR_CONFIRM) > 500);
+    free(im.px);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("no.script"), "--frames", "8", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/lab.ntl (edited)\n");
+    run_free(&r);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("yes.script"), "--frames", "8", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/ninja.ntl\n");
+    run_free(&r);
+    /* Esc: asked (the run goes on to frame 10), or quits at once without edits. */
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("esc.script"), "--frames", "10", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 10 ");
+    expect_in(r.out, "asking: discard the edits and quit?");
+    run_free(&r);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("esc-clean.script"), "--frames", "10", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    if (strstr(r.out, "tick 10 ") || strstr(r.out, "asking")) fail_msg("Esc without edits should quit at once:\n%s", r.out);
+    run_free(&r);
+}
+
+/* No tile over the player's spawn (a message says why); other cells paint; the
+ * eyedropper (Alt+right-click) picks a cell's tile for the next paint. */
+static void test_spawn_free_and_eyedropper(void **state)
+{
+    (void)state;
+    scratch_write_text("spawn.script", "1 mouse down right 132 204\n1 mouse up right 132 204\n"
+                                       "3 mouse down right 60 204\n3 mouse up right 60 204\n5 press F2\n");
+    const char *saved = scratch_path("spawn-saved.ntl");
+    run_result r;
+    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+                                  "--script", scratch_path("spawn.script"), "--frames", "8", "--save", saved, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    scratch_write_text("spawn2.script", "1 mouse down right 60 204\n1 mouse up right 60 204\n");
+    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+                                  "--script", scratch_path("spawn2.script"), "--frames", "4", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "the player's spawn stays free: no tile over cell (2, 8)");
+    expect_in(r.out, "level"); /* not edited: nothing changed */
+    if (strstr(r.out, "(edited)")) fail_msg("a refused paint left the level edited:\n%s", r.out);
+    run_free(&r);
+    nt_level *lv = load_level(saved);
+    assert_int_equal(lv->tiles[8 * lv->width + 5], NT_TILE_FULL);  /* painted */
+    assert_int_equal(lv->tiles[8 * lv->width + 2], NT_TILE_EMPTY); /* the spawn's cell: refused */
+    nt_level_destroy(lv);
+    /* Tab selects the tile after FULL; Alt+right-click on a wall picks FULL again. */
+    scratch_write_text("pick.script", "1 press Tab\n3 down LAlt\n4 mouse down right 24 24\n4 mouse up right 24 24\n5 up LAlt\n"
+                                      "6 mouse down right 264 264\n6 mouse up right 264 264\n8 press F2\n"
+                                      "10 press Tab\n12 mouse down right 312 264\n12 mouse up right 312 264\n14 press F2\n");
+    saved = scratch_path("pick-saved.ntl");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("pick.script"), "--frames", "16", LAB_VIEW, "--save", saved, NULL});
+    lv = load_level(saved);
+    assert_int_equal(lv->tiles[5 * lv->width + 5], NT_TILE_FULL);     /* after the pick */
+    assert_int_equal(lv->tiles[5 * lv->width + 6], NT_TILE_FULL + 1); /* Tab without a pick: the next tile */
+    nt_level_destroy(lv);
+}
+
+/* The wheel zooms at the cursor (the wall corner under it stays put); a middle drag
+ * pans by the drag. The lab fits a 960 x 576 view at 2 pixels per unit. */
+static void test_zoom_at_cursor_and_pan(void **state)
+{
+    (void)state;
+    scratch_write_text("zoom.script", "1 mouse move 48 48\n2 wheel 1\n");
+    scratch_write_text("pan.script", "1 mouse move 48 48\n2 wheel 1\n4 mouse down middle 300 300\n5 mouse move 280 300\n"
+                                     "6 mouse up middle 280 300\n");
+    const char *a = scratch_path("zoom.bmp"), *b = scratch_path("pan.bmp");
+    play_ok((const char *[]){"levels/lab.ntl", "--no-hud", "--size", "960x576", "--zoom", "2", "--script", scratch_path("zoom.script"),
+                             "--frames", "8", "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--no-hud", "--size", "960x576", "--zoom", "2", "--script", scratch_path("pan.script"),
+                             "--frames", "8", "--screenshot", b, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b);
+    /* x2.5 about (48, 48), where the wall's inner corner (24, 24) is. */
+    expect_pixel(&ia, 46, 46, PG_COLOR_TILE, "the wall just above-left of the cursor");
+    expect_pixel(&ia, 50, 50, PG_COLOR_BG, "the room just below-right of the cursor");
+    expect_pixel(&ia, 100, 46, PG_COLOR_TILE, "the top wall, 52 pixels right of the cursor");
+    /* Dragged 20 pixels left: the corner at (28, 48). */
+    expect_pixel(&ib, 26, 46, PG_COLOR_TILE, "the wall, panned");
+    expect_pixel(&ib, 30, 50, PG_COLOR_BG, "the room, panned");
+    expect_pixel(&ib, 46, 50, PG_COLOR_BG, "where the corner was");
+    free(ia.px);
+    free(ib.px);
+}
+
+/* The gold tool (F6) places gold where clicked (the level restarts with it, F2 saves
+ * it); dragging it moves it; Ctrl+Z takes the placement back. */
+static void test_place_and_move_objects(void **state)
+{
+    (void)state;
+    scratch_write_text("place.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n5 press F2\n");
+    scratch_write_text("move.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n"
+                                      "5 mouse down left 264 168\n6 mouse move 360 168\n7 mouse up left 360 168\n");
+    scratch_write_text("unplace.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n"
+                                         "5 down LCtrl\n6 press Z\n8 up LCtrl\n");
+    const char *a = scratch_path("place.bmp"), *b = scratch_path("move.bmp"), *c = scratch_path("unplace.bmp");
+    const char *saved = scratch_path("placed.ntl");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("place.script"), "--frames", "10", LAB_VIEW, "--save", saved,
+                             "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("move.script"), "--frames", "10", LAB_VIEW, "--screenshot", b, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("unplace.script"), "--frames", "10", LAB_VIEW, "--screenshot", c, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b), ic = load_bmp(c);
+    /* Cell (5, 3): centre (132, 84) units, (264, 168) pixels. */
+    expect_pixel(&ia, 264, 168, PG_COLOR_GOLD, "the gold placed");
+    expect_pixel(&ib, 360, 168, PG_COLOR_GOLD, "the gold moved 48 units right");
+    expect_pixel(&ib, 264, 168, PG_COLOR_BG, "where the gold was");
+    expect_pixel(&ic, 264, 168, PG_COLOR_BG, "the placement undone");
+    free(ia.px);
+    free(ib.px);
+    free(ic.px);
+    nt_level *lv = load_level(saved);
+    int g = nt_level_find_body(lv, "gold1");
+    assert_true(g >= 0);
+    assert_int_equal(lv->bodies[g].score, 1);
+    assert_true(lv->bodies[g].position.x == 132 && lv->bodies[g].position.y == 84);
+    nt_level_destroy(lv);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1196,7 +1385,9 @@ int main(void)
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
         cmocka_unit_test(test_dead_player_drawn),  cmocka_unit_test(test_object_kinds),
-        cmocka_unit_test(test_paused_cpu),
+        cmocka_unit_test(test_paused_cpu),         cmocka_unit_test(test_undo_redo_round_trip),
+        cmocka_unit_test(test_confirm_before_discard), cmocka_unit_test(test_spawn_free_and_eyedropper),
+        cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

@@ -52,7 +52,8 @@ static void usage(FILE *f)
           "  --help               this text\n"
           "\n"
           "Script lines (FRAME counts from 1; events are handled at the start of that frame):\n"
-          "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...)\n"
+          "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...;\n"
+          "                                                     LShift, LCtrl, LAlt for the modifiers)\n"
           "  FRAME mouse down|up left|middle|right X Y | FRAME mouse move X Y | FRAME wheel DY\n"
           "  FRAME resize W H | FRAME quit\n"
           "\n"
@@ -144,7 +145,16 @@ static int load_script(const char *path, script *s)
             ev.type = SDL_QUIT;
             ok = script_add(s, (int)frame, &ev, 0, 0);
         } else if (n == 3 && (strcmp(w[1], "down") == 0 || strcmp(w[1], "up") == 0 || strcmp(w[1], "press") == 0)) {
-            SDL_Keycode k = SDL_GetKeyFromName(w[2]);
+            /* SDL's names of the modifiers hold a space: one-word aliases. */
+            static const struct {
+                const char *alias;
+                SDL_Keycode key;
+            } aliases[] = {{"LShift", SDLK_LSHIFT}, {"RShift", SDLK_RSHIFT}, {"LCtrl", SDLK_LCTRL},
+                           {"RCtrl", SDLK_RCTRL},   {"LAlt", SDLK_LALT},     {"RAlt", SDLK_RALT}};
+            SDL_Keycode k = SDLK_UNKNOWN;
+            for (size_t i = 0; i < sizeof aliases / sizeof aliases[0]; i++)
+                if (strcmp(w[2], aliases[i].alias) == 0) k = aliases[i].key;
+            if (k == SDLK_UNKNOWN) k = SDL_GetKeyFromName(w[2]);
             if (k == SDLK_UNKNOWN) why = "unknown key name (SDL names: Left, Right, Up, Down, Z, Space, F5, ...)";
             else {
                 ev.key.keysym.sym = k;
