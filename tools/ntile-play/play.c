@@ -268,6 +268,8 @@ static nt_status parse_level_file(const char *path, nt_level **out, char *why, s
 
 static void clear_world_extras(pg *p)
 {
+    p->selected = nt_null_body_id();
+    p->joint = false;
     p->pair_n = 0;
     p->has_collision = false;
     p->acc = 0;
@@ -284,6 +286,7 @@ static int ends_with(const char *s, const char *suffix)
 static void update_view_fit(pg *p);
 static void pan(pg *p, double seconds);
 static void history_clear(pg *p);
+static void update_camera(pg *p);
 static void undo(pg *p, bool redo);
 
 /* ---------------------------------------------------------------- kinds of bodies */
@@ -515,6 +518,97 @@ static void update_pairs(pg *p)
     p->pair_n = m;
 }
 
+/* ---------------------------------------------------------------- the inspector */
+
+/* The mouse joint, as Box2D's samples have it: a damped spring (3 Hz, critically
+ * damped) pulls the selected body toward the mouse, through its velocity. */
+static void mouse_joint(pg *p)
+{
+    if (!p->joint || !p->game) return;
+    nt_world *w = nt_game_get_world(p->game);
+    if (!nt_body_is_valid(w, p->selected) || nt_body_get_type(w, p->selected) != NT_BODY_DYNAMIC) {
+        p->joint = false;
+        return;
+    }
+    update_camera(p);
+    pg_vec m = pg__to_world(p, p->mx, p->my);
+    nt_vec2 x = nt_body_get_position(w, p->selected), v = nt_body_get_velocity(w, p->selected);
+    double om = 2 * 3.141592653589793 * 3, k = om * om, c = 2 * om, dt = (double)p->dt;
+    double vx = (double)v.x + (k * (m.x - (double)x.x) - c * (double)v.x) * dt;
+    double vy = (double)v.y + (k * (m.y - (double)x.y) - c * (double)v.y) * dt;
+    nt_body_set_velocity(w, p->selected, nt_v2((nt_real)vx, (nt_real)vy));
+}
+
+static const char *edge_letter(nt_edge e) { return e == NT_EDGE_SOLID ? "S" : e == NT_EDGE_INTERESTING ? "I" : "-"; }
+
+void pg__inspect_cell(const pg *p, char *out, size_t cap)
+{
+    out[0] = '\0';
+    if (!p->game || !p->mouse_seen || !pg__in_view(p, p->mx, p->my)) return;
+    const nt_level *lv = p->level;
+    pg_vec w = pg__to_world(p, p->mx, p->my);
+    double cs = (double)lv->cell_size;
+    int x = (int)floor(w.x / cs), y = (int)floor(w.y / cs);
+    if (x < 0 || y < 0 || x >= lv->width || y >= lv->height) {
+        snprintf(out, cap, "(%.0f, %.0f) outside the map", w.x, w.y);
+        return;
+    }
+    size_t k = (size_t)y * (size_t)lv->width + (size_t)x;
+    const nt_map *m = nt_world_get_map(nt_game_get_world(p->game));
+    const nt_tile_info *ti = nt_tile_get_info(lv->tiles[k]);
+    snprintf(out, cap, "cell (%d, %d) %s edges L%s R%s T%s B%s%s material %d", x, y, ti ? ti->name : "?",
+             edge_letter(nt_map_get_edge(m, x, y, NT_SIDE_LEFT)), edge_letter(nt_map_get_edge(m, x, y, NT_SIDE_RIGHT)),
+             edge_letter(nt_map_get_edge(m, x, y, NT_SIDE_TOP)), edge_letter(nt_map_get_edge(m, x, y, NT_SIDE_BOTTOM)),
+             (lv->cell_flags[k] & NT_CELL_ONE_WAY) ? " one-way" : "", lv->cell_materials[k]);
+}
+
+void pg__inspect_body(const pg *p, char *out, size_t cap)
+{
+    out[0] = '\0';
+    if (!p->game) return;
+    nt_world *w = nt_game_get_world(p->game);
+    nt_body_id id = p->selected;
+    if (nt_body_id_is_null(id) || !nt_body_is_valid(w, id)) return;
+    static const char *const types[] = {"static", "kinematic", "dynamic"};
+    nt_body_type t = nt_body_get_type(w, id);
+    nt_shape sh = nt_body_get_shape(w, id);
+    nt_vec2 q = nt_body_get_position(w, id), v = nt_body_get_velocity(w, id);
+    int contacts = 0;
+    nt_body_get_contacts(w, id, NULL, 0, &contacts);
+    nt_body_tile_contacts tc;
+    memset(&tc, 0, sizeof tc);
+    nt_body_get_tile_contacts(w, id, &tc);
+    char shape[64];
+    if (sh.type == NT_SHAPE_CIRCLE) snprintf(shape, sizeof shape, "circle r %g", (double)sh.half.x);
+    else snprintf(shape, sizeof shape, "box %g x %g", 2 * (double)sh.half.x, 2 * (double)sh.half.y);
+    snprintf(out, cap, "body %d.%u %s%s %s at (%.2f, %.2f) vel (%.2f, %.2f) contacts %d bodies, %d tiles%s %s",
+             id.index1, (unsigned)id.generation, (unsigned)t < 3 ? types[t] : "?",
+             nt_body_id_equals(id, nt_game_get_player(p->game)) ? " (player)" : "", shape, (double)q.x, (double)q.y, (double)v.x,
+             (double)v.y, contacts, tc.count, tc.on_floor ? " (on a floor)" : "", nt_body_is_awake(w, id) ? "awake" : "asleep");
+}
+
+typedef struct pick_any {
+    nt_body_id found;
+    const nt_world *w;
+} pick_any;
+
+static bool pick_any_fn(nt_body_id id, void *ctx)
+{
+    pick_any *k = ctx;
+    k->found = id;
+    return false;
+}
+
+/* The body under a window point (sensors are not picked), or null. */
+static nt_body_id body_at(const pg *p, double sx, double sy)
+{
+    nt_world *w = nt_game_get_world(p->game);
+    pg_vec q = pg__to_world(p, sx, sy);
+    pick_any k = {nt_null_body_id(), w};
+    nt_world_query_point(w, nt_v2((nt_real)q.x, (nt_real)q.y), nt_default_query_filter(), pick_any_fn, &k);
+    return k.found;
+}
+
 /* ---------------------------------------------------------------- ticks */
 
 static void tick(pg *p)
@@ -529,6 +623,7 @@ static void tick(pg *p)
         record_stop(p);
     }
     snapshot_positions(p);
+    mouse_joint(p);
     double px0 = 0, py0 = 0, ke0 = 0;
     if (p->lab) pg__mechanics(p, &px0, &py0, &ke0);
     /* A replay's inputs while it lasts; then the keyboard takes over. */
@@ -1658,6 +1753,16 @@ static void fill_rect_to(pg *p, double sx, double sy)
 
 static void throw_body(pg *p, pg_vec from, pg_vec to)
 {
+    double cs = (double)p->level->cell_size;
+    int fx = (int)floor(from.x / cs), fy = (int)floor(from.y / cs);
+    if (fx < 0 || fy < 0 || fx >= p->level->width || fy >= p->level->height) {
+        say(p, "cannot throw from outside the map");
+        return;
+    }
+    if (p->level->tiles[(size_t)fy * (size_t)p->level->width + (size_t)fx] == NT_TILE_FULL) {
+        say(p, "cannot throw from inside a solid tile (cell (%d, %d))", fx, fy);
+        return;
+    }
     nt_real h = (nt_real)pg__throw_half(p);
     nt_body_def d = nt_default_body_def();
     d.type = NT_BODY_DYNAMIC;
@@ -1742,8 +1847,12 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
             pg_vec w = pg__to_world(p, x, y);
             move_object(p, w.x - p->moving_from.x, w.y - p->moving_from.y);
             p->moving = 0;
-        } else if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->game && !p->recording)
+        } else if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->joint) {
+            p->joint = false;
+        } else if (button == PG_MOUSE_LEFT && p->drag == PG_MOUSE_LEFT && p->game && !p->recording &&
+                   !p->press_selected) {
             throw_body(p, p->drag_from, pg__to_world(p, x, y));
+        }
         if (button == PG_MOUSE_MIDDLE && p->drag == PG_MOUSE_MIDDLE && !p->moved && p->game && mouse_tools_allowed(p))
             delete_at(p, p->press_x, p->press_y); /* a click, not a pan */
         if (button == PG_MOUSE_RIGHT && p->drag == PG_MOUSE_RIGHT) {
@@ -1777,6 +1886,16 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
         return;
     }
     if (button == PG_MOUSE_LEFT) {
+        nt_body_id b = body_at(p, x, y);
+        if (!nt_body_id_is_null(b)) { /* select it; a dynamic body follows the mouse on a spring */
+            p->selected = b;
+            p->press_selected = true;
+            p->joint = nt_body_get_type(nt_game_get_world(p->game), b) == NT_BODY_DYNAMIC;
+            p->drag = PG_MOUSE_LEFT;
+            p->drag_from = pg__to_world(p, x, y);
+            return;
+        }
+        p->press_selected = false;
         p->drag = PG_MOUSE_LEFT;
         p->drag_from = pg__to_world(p, x, y);
     } else if (button == PG_MOUSE_RIGHT) {
@@ -1978,9 +2097,14 @@ void pg_summary(const pg *p, char *out, size_t cap)
     if (n > 0 && (size_t)n < cap && p->confirm_cmd >= 0)
         n += snprintf(out + n, cap - (size_t)n, "  asking: discard the edits and %s?", action_name(p->confirm_cmd));
     if (n > 0 && (size_t)n < cap && p->lab && p->has_collision)
-        snprintf(out + n, cap - (size_t)n,
+        n += snprintf(out + n, cap - (size_t)n,
                  "  last collision tick %d: momentum (%.2f, %.2f) -> (%.2f, %.2f), kinetic energy %.1f -> %.1f",
                  p->coll_tick, p->px_before, p->py_before, p->px_after, p->py_after, p->ke_before, p->ke_after);
+    char ins[400];
+    pg__inspect_body(p, ins, sizeof ins);
+    if (n > 0 && (size_t)n < cap && ins[0]) n += snprintf(out + n, cap - (size_t)n, "  selected %s", ins);
+    pg__inspect_cell(p, ins, sizeof ins);
+    if (n > 0 && (size_t)n < cap && ins[0]) n += snprintf(out + n, cap - (size_t)n, "  under the mouse %s", ins);
 }
 
 const char *pg_message(const pg *p) { return p->clock < p->msg_until ? p->msg : ""; }

@@ -524,8 +524,29 @@ static void draw_sensor_pairs(rctx *r)
 static void draw_tools(rctx *r)
 {
     pg *p = r->p;
-    if (!p->mouse_seen || !p->game) return;
-    if (p->drag == PG_MOUSE_LEFT) {
+    if (!p->game) return;
+    nt_world *w = nt_game_get_world(p->game);
+    if (!nt_body_id_is_null(p->selected) && nt_body_is_valid(w, p->selected)) {
+        nt_vec2 q = nt_body_get_position(w, p->selected);
+        nt_shape sh = nt_body_get_shape(w, p->selected);
+        double dx, dy;
+        offset_of(r, q, &dx, &dy, NULL);
+        double x = sx_of(r, (double)q.x + dx), y = sy_of(r, (double)q.y + dy);
+        double hx = (double)sh.half.x * r->scale + 3, hy = (double)sh.half.y * r->scale + 3;
+        if (sh.type == NT_SHAPE_CIRCLE) {
+            pg_circle(r->c, x, y, hx, PG_COLOR_SELECT);
+            pg_circle(r->c, x, y, hx + 1, PG_COLOR_SELECT);
+        } else {
+            pg_rect(r->c, (int)(x - hx), (int)(y - hy), (int)(x + hx), (int)(y + hy), PG_COLOR_SELECT);
+            pg_rect(r->c, (int)(x - hx) - 1, (int)(y - hy) - 1, (int)(x + hx) + 1, (int)(y + hy) + 1, PG_COLOR_SELECT);
+        }
+        if (p->joint && p->mouse_seen) { /* the spring of the mouse joint */
+            pg_line(r->c, x, y, p->mx, p->my, PG_COLOR_SELECT);
+            pg_fill_circle(r->c, p->mx, p->my, 3, PG_COLOR_SELECT);
+        }
+    }
+    if (!p->mouse_seen) return;
+    if (p->drag == PG_MOUSE_LEFT && !p->press_selected && !p->moving && p->tool == PG_TOOL_THROW) {
         pg_vec a = pg__to_screen(p, p->drag_from.x, p->drag_from.y);
         pg_arrow(r->c, a.x, a.y, p->mx, p->my, 7, PG_COLOR_SELECT);
         double rad = pg__throw_half(p) * p->zoom;
@@ -543,9 +564,9 @@ static void draw_tools(rctx *r)
     }
     if (pg__in_view(p, p->mx, p->my) && !p->recording) {
         /* The cell a right-click paints. */
-        pg_vec w = pg__to_world(p, p->mx, p->my);
+        pg_vec mw = pg__to_world(p, p->mx, p->my);
         double cs = (double)p->level->cell_size;
-        double cx = floor(w.x / cs) * cs, cy = floor(w.y / cs) * cs;
+        double cx = floor(mw.x / cs) * cs, cy = floor(mw.y / cs) * cs;
         if (cx >= 0 && cy >= 0 && cx < p->level->width * cs && cy < p->level->height * cs) {
             pg_vec a = pg__to_screen(p, cx, cy), b = pg__to_screen(p, cx + cs, cy + cs);
             pg_rect(r->c, (int)floor(a.x), (int)floor(a.y), (int)floor(b.x) + 1, (int)floor(b.y) + 1, 0x5a6270u);
@@ -760,6 +781,13 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
         snprintf(buf, sizeof buf, "%c %s", pg_gizmos[g].key, pg_gizmos[g].name);
         checkbox(&k, gz(p, g), buf, PG_CMD_GIZMO, g);
     }
+
+    heading(&k, "Inspector (hover a cell, click a body)");
+    char ins[400];
+    pg__inspect_cell(p, ins, sizeof ins);
+    para(&k, ins[0] ? ins : "the mouse is not over the level", ins[0] ? PG_COLOR_TEXT : 0x98a0a8u);
+    pg__inspect_body(p, ins, sizeof ins);
+    if (ins[0]) para(&k, ins, PG_COLOR_SELECT);
 
     heading(&k, "Counters");
     if (w) {

@@ -89,6 +89,11 @@ struct pg {
     int moving_index; /* its index (level body or region) */
     pg_vec moving_from;
 
+    /* The inspector: the body selected (left click on it), dragged by a spring toward
+     * the mouse while the button is held (a mouse joint). */
+    nt_body_id selected;
+    bool joint, press_selected;
+
     /* Mouse. */
     unsigned mods;      /* PG_MOD_* held */
     bool rect;          /* the right drag fills a rectangle (Ctrl) */
@@ -165,6 +170,9 @@ pg_vec pg__player_pos(const pg *p, double alpha); /* interpolated */
 double pg__alpha(const pg *p);
 void pg__strip_rect(const pg *p, int *x0, int *cell, int *gap);
 int pg__text_scale(const pg *p);
+/* The inspector's lines: the cell under the mouse, the body selected ("" when none). */
+void pg__inspect_cell(const pg *p, char *out, size_t cap);
+void pg__inspect_body(const pg *p, char *out, size_t cap);
 bool pg__in_view(const pg *p, double x, double y);
 /* Width (and height) of a thrown body, in cells, and the half-size in world units. */
 double pg__throw_cells(const pg *p);
