@@ -1247,6 +1247,99 @@ static void test_select_and_drag_body(void **state)
     run_free(&r);
 }
 
+
+/* ---------- replays in the window ---------- */
+
+/* Stepping back (the comma key, paused) plays the replay again from the start: five
+ * steps back from tick 29 give exactly the frame of a fresh run to tick 24. A click on
+ * the timeline goes to the tick under it. */
+static void test_replay_step_back(void **state)
+{
+    (void)state;
+    scratch_write_text("back.script", "30 press P\n32 press ,\n34 press ,\n36 press ,\n38 press ,\n40 press ,\n");
+    const char *a = scratch_path("back.bmp"), *b = scratch_path("fresh24.bmp");
+    run_result r;
+    run_play(&r, (const char *[]){"--replay", "tests/replays/ninja.ntr", "--no-hud", "--script", scratch_path("back.script"),
+                                  "--frames", "45", "--screenshot", a, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 24 ");
+    run_free(&r);
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--no-hud", "--frames", "24", "--screenshot", b, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b);
+    for (int y = 0; y < ia.h; y++)
+        for (int x = 0; x < ia.w; x++)
+            if (pixel(&ia, x, y) != pixel(&ib, x, y)) fail_msg("stepped back to tick 24 and a fresh run differ at (%d, %d)", x, y);
+    free(ia.px);
+    free(ib.px);
+    /* The timeline (1024 x 640 window): from x = 240 to 948 at the bottom; its middle is tick 310 of 620. */
+    scratch_write_text("scrub.script", "30 press P\n32 mouse down left 594 627\n32 mouse up left 594 627\n");
+    run_play(&r, (const char *[]){"tests/replays/ninja.ntr", "--script", scratch_path("scrub.script"), "--frames", "34", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 310 ");
+    expect_in(r.out, "replay tests/replays/ninja.ntr tick 310 of 620");
+    run_free(&r);
+}
+
+/* After the replay's last tick the keyboard has the game, and the playground says so;
+ * a replay dropped on the window plays on its level; F7 goes to the first tick whose
+ * state differs from a replay's recorded hashes (here: one input changed). */
+static void test_replay_over_drop_and_divergence(void **state)
+{
+    (void)state;
+    run_result r;
+    run_play(&r, (const char *[]){"tests/replays/ninja-mine.ntr", "--frames", "205", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "replay tests/replays/ninja-mine.ntr over (200 ticks): you have control");
+    run_free(&r);
+    scratch_write_text("drop.script", "2 drop tests/replays/ninja-mine.ntr\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("drop.script"), "--frames", "10", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/ninja.ntl");
+    expect_in(r.out, "replay tests/replays/ninja-mine.ntr tick ");
+    run_free(&r);
+    /* ninja.ntr with the first run shortened by one tick (300R -> 299R 1.). */
+    char *text = scratch_read("tests/replays/ninja.ntr", NULL);
+    char *at = strstr(text, "input 300R ");
+    assert_non_null(at);
+    char *changed = malloc(strlen(text) + 16);
+    assert_non_null(changed);
+    size_t head = (size_t)(at - text);
+    memcpy(changed, text, head);
+    strcpy(changed + head, "input 299R 1. ");
+    strcat(changed, at + strlen("input 300R "));
+    char cwd[4096];
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    char *lv = strstr(changed, "level ../../levels/ninja.ntl");
+    assert_non_null(lv);
+    char *fixed = malloc(strlen(changed) + strlen(cwd) + 64);
+    assert_non_null(fixed);
+    memcpy(fixed, changed, (size_t)(lv - changed));
+    sprintf(fixed + (lv - changed), "level \"%s/levels/ninja.ntl\"%s", cwd, lv + strlen("level ../../levels/ninja.ntl"));
+    scratch_write_text("diverge.ntr", fixed);
+    /* Where nt_run_replay says it diverges. */
+    nt_replay *rp;
+    nt_text_error e;
+    if (nt_replay_parse("diverge.ntr", fixed, strlen(fixed), &rp, &e) != NT_OK) fail_msg("%s", e.message);
+    nt_level *level = load_level("levels/ninja.ntl");
+    nt_run_report rep;
+    assert_int_equal(nt_run_replay(rp, level, &rep), NT_OK);
+    int want = rep.first_divergence;
+    nt_run_report_free(&rep);
+    nt_replay_destroy(rp);
+    nt_level_destroy(level);
+    assert_true(want > 0);
+    scratch_write_text("f7.script", "2 press F7\n");
+    run_play(&r, (const char *[]){scratch_path("diverge.ntr"), "--script", scratch_path("f7.script"), "--frames", "4", NULL});
+    expect_status(&r, 0);
+    char expect[64];
+    snprintf(expect, sizeof expect, "tick %d ", want);
+    expect_in(r.out, expect);
+    run_free(&r);
+    free(text);
+    free(changed);
+    free(fixed);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1427,7 +1520,8 @@ int main(void)
         cmocka_unit_test(test_paused_cpu),         cmocka_unit_test(test_undo_redo_round_trip),
         cmocka_unit_test(test_confirm_before_discard), cmocka_unit_test(test_spawn_free_and_eyedropper),
         cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
-        cmocka_unit_test(test_select_and_drag_body),
+        cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
+        cmocka_unit_test(test_replay_over_drop_and_divergence),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

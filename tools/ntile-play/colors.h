@@ -15,6 +15,7 @@
 #define PG_PANEL_W 232                 /* the side panel's width at text scale 1 */
 #define PG_COLOR_TEXT 0xe8e8e8u
 #define PG_COLOR_STRIP 0x1c222au       /* the tile palette's background */
+#define PG_COLOR_TIMELINE 0x4080d0u    /* the replay timeline's played part */
 #define PG_COLOR_CONFIRM 0xffa040u     /* the question before discarding edits */
 #define PG_COLOR_SELECT 0xffd040u      /* the selected palette tile, the painting cursor */
 /* Level objects, each in its own colour and shape (render.c). */

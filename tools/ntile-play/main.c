@@ -21,7 +21,7 @@ enum { EXIT_USAGE = 2 };
 
 static void usage(FILE *f)
 {
-    fputs("usage: ntile-play [LEVEL.ntl] [options]\n"
+    fputs("usage: ntile-play [LEVEL.ntl | REPLAY.ntr] [options]\n"
           "\n"
           "Plays a level (default levels/ninja.ntl) in a window: arrows/WASD move, Z/space jump,\n"
           "X act, H shows every key. Options:\n"
@@ -55,7 +55,7 @@ static void usage(FILE *f)
           "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...;\n"
           "                                                     LShift, LCtrl, LAlt for the modifiers)\n"
           "  FRAME mouse down|up left|middle|right X Y | FRAME mouse move X Y | FRAME wheel DY\n"
-          "  FRAME resize W H | FRAME quit\n"
+          "  FRAME resize W H | FRAME drop FILE (a level or replay dropped on the window) | FRAME quit\n"
           "\n"
           "Exit status: 0 ok, 1 runtime error (level, replay, window, file), 2 usage error.\n"
           "Without a display: SDL_VIDEODRIVER=dummy (or offscreen) with --frames and --screenshot.\n",
@@ -66,6 +66,7 @@ static void usage(FILE *f)
 
 typedef struct script_event {
     int frame, order;
+    char *drop; /* a file dropped on the window (the event gets a copy SDL can free) */
     int resize_w, resize_h; /* > 0: resize the window instead of pushing ev */
     SDL_Event ev;
 } script_event;
@@ -88,9 +89,18 @@ static int script_add(script *s, int frame, const SDL_Event *ev, int resize_w, i
     s->e[s->n].order = s->n;
     s->e[s->n].resize_w = resize_w;
     s->e[s->n].resize_h = resize_h;
+    s->e[s->n].drop = NULL;
     s->e[s->n].ev = *ev;
     s->n++;
     return 1;
+}
+
+static void script_free(script *s)
+{
+    for (int i = 0; i < s->n; i++) free(s->e[i].drop);
+    free(s->e);
+    s->e = NULL;
+    s->n = 0;
 }
 
 static int cmp_event(const void *a, const void *b)
@@ -198,6 +208,14 @@ static int load_script(const char *path, script *s)
                 why = "resize needs a width (160..8192) and a height (120..8192)";
             else
                 ok = script_add(s, (int)frame, &ev, (int)rw, (int)rh); /* the window is resized, as a user would */
+        } else if (n == 3 && strcmp(w[1], "drop") == 0) {
+            ev.type = SDL_DROPFILE;
+            ev.drop.file = NULL;
+            ok = script_add(s, (int)frame, &ev, 0, 0);
+            if (ok) {
+                s->e[s->n - 1].drop = strdup(w[2]);
+                ok = s->e[s->n - 1].drop != NULL;
+            }
         } else if (n == 3 && strcmp(w[1], "wheel") == 0) {
             double dy;
             if (!parse_double(w[2], &dy)) why = "wheel needs a number";
@@ -267,6 +285,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_QUOTE: pg_command(p, PG_CMD_FRICTION, 1); return 0;
     case SDLK_TAB: pg_command(p, PG_CMD_TILE, shift ? -1 : 1); return 0;
     case SDLK_PERIOD: pg_command(p, PG_CMD_STEP, 0); return 0;
+    case SDLK_COMMA: pg_command(p, PG_CMD_STEP_BACK, 0); return 0;
     default: break;
     }
     if (repeat) return 0;
@@ -296,6 +315,8 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_F5: pg_command(p, PG_CMD_RECORD, 0); break;
     case SDLK_F3: pg_command(p, PG_CMD_PANEL, 0); break;
     case SDLK_F6: pg_command(p, PG_CMD_TOOL, shift ? -2 : -1); break;
+    case SDLK_F7: pg_command(p, PG_CMD_DIVERGENCE, 0); break;
+    case SDLK_END: pg_command(p, PG_CMD_REPLAY_END, 0); break;
     case SDLK_HOME: pg_command(p, PG_CMD_ZOOM, 0); break;
     default: break;
     }
@@ -363,6 +384,10 @@ static int handle_event(pg *p, const SDL_Event *e, int *resized)
         return 0;
     }
     case SDL_MOUSEWHEEL: pg_mouse_wheel(p, e->wheel.y); return 0;
+    case SDL_DROPFILE: /* a level or a replay dropped on the window */
+        if (e->drop.file) pg_open(p, e->drop.file);
+        SDL_free(e->drop.file);
+        return 0;
     case SDL_WINDOWEVENT:
         if (e->window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e->window.event == SDL_WINDOWEVENT_RESIZED) *resized = 1;
         if (e->window.event == SDL_WINDOWEVENT_FOCUS_GAINED) focused = true;
@@ -567,6 +592,11 @@ static int parse_args(int argc, char **argv, args *a)
             fprintf(stderr, "ntile-play: unknown option '%s' (see --help)\n", s);
             return 0;
         } else {
+            size_t l = strlen(s);
+            if (l > 4 && strcmp(s + l - 4, ".ntr") == 0 && !a->o.replay_path) { /* a replay given as a file */
+                a->o.replay_path = s;
+                continue;
+            }
             if (a->o.level_path) {
                 fprintf(stderr, "ntile-play: more than one level given ('%s' and '%s')\n", a->o.level_path, s);
                 return 0;
@@ -605,7 +635,7 @@ int main(int argc, char **argv)
     script sc;
     memset(&sc, 0, sizeof sc);
     if (a.script && !load_script(a.script, &sc)) {
-        free(sc.e);
+        script_free(&sc);
         return EXIT_USAGE;
     }
     bool fixed = !a.realtime && (a.frames > 0 || a.script);
@@ -614,7 +644,7 @@ int main(int argc, char **argv)
     pg *p = pg_create(&a.o, why, sizeof why);
     if (!p) {
         fprintf(stderr, "ntile-play: %s\n", why);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
@@ -624,7 +654,7 @@ int main(int argc, char **argv)
                 "ntile-play: or `make run` for the headless replay of the default level\n",
                 SDL_GetError());
         pg_destroy(p);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
     /* Offscreen and dummy drivers have their own framebuffer: do not let SDL load an
@@ -643,11 +673,11 @@ int main(int argc, char **argv)
                 driver);
         SDL_Quit();
         pg_destroy(p);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
-    char title[256];
-    snprintf(title, sizeof title, "ntile-play %d.%d.%d", NT_VERSION_MAJOR, NT_VERSION_MINOR, NT_VERSION_PATCH);
+    char title[512];
+    pg_title(p, title, sizeof title);
     SDL_Window *win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, a.w, a.h, SDL_WINDOW_RESIZABLE);
     pg_canvas canvas;
     memset(&canvas, 0, sizeof canvas);
@@ -680,6 +710,7 @@ int main(int argc, char **argv)
             }
             SDL_Event ev = se->ev;
             ev.common.timestamp = SDL_GetTicks();
+            if (ev.type == SDL_DROPFILE) ev.drop.file = SDL_strdup(se->drop);
             SDL_PushEvent(&ev);
         }
         SDL_Event ev;
@@ -719,6 +750,12 @@ int main(int argc, char **argv)
             if (a.seconds > 0 && elapsed0 >= a.seconds) break;
             continue;
         }
+        char now_title[512];
+        pg_title(p, now_title, sizeof now_title);
+        if (strcmp(now_title, title) != 0) {
+            snprintf(title, sizeof title, "%s", now_title);
+            SDL_SetWindowTitle(win, title);
+        }
         pg_render(p, &canvas, fps);
         SDL_Surface *ws = SDL_GetWindowSurface(win);
         SDL_Surface *cs = canvas_surface(&canvas);
@@ -752,6 +789,6 @@ done:
     if (win) SDL_DestroyWindow(win);
     SDL_Quit();
     pg_destroy(p);
-    free(sc.e);
+    script_free(&sc);
     return rc;
 }

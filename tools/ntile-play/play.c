@@ -162,6 +162,40 @@ static int is_dir(const char *path)
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
+/* Lexically: "tests/replays/../../levels/x.ntl" -> "levels/x.ntl" ("." parts go,
+ * "name/.." pairs cancel; a leading "/" or leading ".." parts stay). */
+static void normalise_path(char *path)
+{
+    char *parts[512];
+    int n = 0;
+    bool abs_path = path[0] == '/';
+    char buf[PG_PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *t = strtok(buf, "/"); t && n < 512; t = strtok(NULL, "/")) {
+        if (strcmp(t, ".") == 0) continue;
+        if (strcmp(t, "..") == 0 && n > 0 && strcmp(parts[n - 1], "..") != 0) {
+            n--;
+            continue;
+        }
+        if (strcmp(t, "..") == 0 && abs_path) continue;
+        parts[n++] = t;
+    }
+    char out[PG_PATH_MAX];
+    size_t k = 0;
+    out[0] = '\0';
+    if (abs_path) out[k++] = '/', out[k] = '\0';
+    for (int i = 0; i < n; i++) {
+        size_t l = strlen(parts[i]);
+        if (k + l + 2 >= sizeof out) return; /* too long: leave it */
+        if (i > 0) out[k++] = '/';
+        memcpy(out + k, parts[i], l);
+        k += l;
+        out[k] = '\0';
+    }
+    if (k == 0) snprintf(out, sizeof out, ".");
+    strcpy(path, out);
+}
+
 /* "a/b/c.ntl" -> "a/b" ("." without a slash). */
 static void dir_name(const char *path, char *out, size_t cap)
 {
@@ -287,6 +321,9 @@ static void update_view_fit(pg *p);
 static void pan(pg *p, double seconds);
 static void history_clear(pg *p);
 static void update_camera(pg *p);
+static void seek(pg *p, int t);
+static void jump_to_divergence(pg *p);
+static void open_file(pg *p, const char *path);
 static void undo(pg *p, bool redo);
 
 /* ---------------------------------------------------------------- kinds of bodies */
@@ -1152,7 +1189,7 @@ static void set_gravity(pg *p, int dir)
 
 static const char *action_name(int cmd)
 {
-    return cmd == PG_CONFIRM_QUIT ? "quit" : "switch level";
+    return cmd == PG_CONFIRM_QUIT ? "quit" : cmd == PG_CMD_OPEN ? "open the file" : "switch level";
 }
 
 /* Before an action that would lose unsaved edits: true to go on; otherwise a
@@ -1191,6 +1228,17 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
     if (p->confirm_cmd >= 0 && cmd != PG_CMD_CONFIRM) return; /* a question waits for Y or N */
     switch (cmd) {
     case PG_CMD_UNDO: undo(p, false); break;
+    case PG_CMD_SEEK: seek(p, arg); break;
+    case PG_CMD_STEP_BACK:
+        if (p->game) seek(p, nt_game_get_state(p->game).tick - 1);
+        break;
+    case PG_CMD_REPLAY_END:
+        if (p->replay_on) seek(p, p->replay->ticks);
+        break;
+    case PG_CMD_DIVERGENCE: jump_to_divergence(p); break;
+    case PG_CMD_OPEN:
+        if (p->open_path && guard(p, cmd, arg)) open_file(p, p->open_path);
+        break;
     case PG_CMD_TOOL:
         p->tool = arg >= 0 && arg < PG_TOOL_COUNT ? arg : (p->tool + (arg == -2 ? PG_TOOL_COUNT - 1 : 1)) % PG_TOOL_COUNT;
         say(p, "left button: %s", p->tool == PG_TOOL_THROW ? "throw bodies" : pg_tool_names[p->tool]);
@@ -1807,11 +1855,36 @@ static void delete_at(pg *p, double sx, double sy)
 
 void pg_set_mods(pg *p, unsigned mods) { p->mods = mods; }
 
+void pg__timeline_rect(const pg *p, int *x0, int *y0, int *x1, int *y1)
+{
+    int h = 14 * pg__text_scale(p);
+    *x0 = p->view_x + 8, *x1 = p->view_x + p->view_w - 8, *y1 = p->view_h - 6, *y0 = *y1 - h;
+}
+
+static bool in_timeline(const pg *p, double x, double y)
+{
+    if (!p->replay_on || !p->opt.hud) return false;
+    int x0, y0, x1, y1;
+    pg__timeline_rect(p, &x0, &y0, &x1, &y1);
+    return x >= x0 && x < x1 && y >= y0 && y < y1;
+}
+
+static int timeline_tick(const pg *p, double x)
+{
+    int x0, y0, x1, y1;
+    pg__timeline_rect(p, &x0, &y0, &x1, &y1);
+    return (int)lround((x - x0) / (double)(x1 - x0 > 1 ? x1 - x0 : 1) * p->replay->ticks);
+}
+
 void pg_mouse_move(pg *p, double x, double y)
 {
     update_camera(p); /* the view the mouse points into */
     p->mx = x, p->my = y;
     p->mouse_seen = true;
+    if (p->drag == PG_MOUSE_TIMELINE) {
+        seek(p, timeline_tick(p, x));
+        return;
+    }
     if (p->drag == PG_MOUSE_MIDDLE || p->drag == PG_MOUSE_PAN) {
         double dx = x - p->press_x, dy = y - p->press_y;
         if (fabs(dx) > 3 || fabs(dy) > 3) p->moved = true;
@@ -1835,6 +1908,15 @@ void pg_mouse_button(pg *p, int button, bool down, double x, double y)
                 break;
             }
         }
+        return;
+    }
+    if (down && button == PG_MOUSE_LEFT && in_timeline(p, x, y)) {
+        p->drag = PG_MOUSE_TIMELINE;
+        seek(p, timeline_tick(p, x));
+        return;
+    }
+    if (!down && p->drag == PG_MOUSE_TIMELINE && button == PG_MOUSE_LEFT) {
+        p->drag = 0;
         return;
     }
     int t = strip_tile_at(p, x, y);
@@ -1931,6 +2013,157 @@ void pg_mouse_wheel(pg *p, double dy)
     else zoom_at(p, f, p->view_x + p->view_w / 2.0, p->view_h / 2.0);
 }
 
+/* ---------------------------------------------------------------- replays */
+
+/* Parse a replay file and the path of its level (relative to the replay, normalised). */
+static int read_replay(const char *path, nt_replay **out, char *level, size_t lcap, char *why, size_t cap)
+{
+    char *text;
+    size_t len;
+    nt_text_error e;
+    *out = NULL;
+    if (!read_file(path, &text, &len, why, cap)) return 0;
+    nt_status s = nt_replay_parse(path, text, len, out, &e);
+    free(text);
+    if (s != NT_OK) {
+        snprintf(why, cap, "%s", e.message);
+        return 0;
+    }
+    char dir[PG_PATH_MAX];
+    dir_name(path, dir, sizeof dir);
+    int fits = (*out)->level[0] == '/' ? join(level, lcap, (*out)->level, "", "") : join(level, lcap, dir, "/", (*out)->level);
+    if (!fits) {
+        snprintf(why, cap, "%s: the level path is too long", path);
+        nt_replay_destroy(*out);
+        *out = NULL;
+        return 0;
+    }
+    normalise_path(level);
+    return 1;
+}
+
+/* Play p->replay's inputs (its seed, friction model and tick) from now on. */
+static void use_replay(pg *p, const char *path)
+{
+    snprintf(p->replay_path, sizeof p->replay_path, "%s", path);
+    normalise_path(p->replay_path);
+    p->gdef.override_seed = p->replay->has_seed;
+    p->gdef.seed = p->replay->seed;
+    p->gdef.override_friction_model = p->replay->has_friction_model;
+    p->gdef.friction_model = p->replay->friction_model;
+    p->dt = p->replay->dt;
+    p->replay_on = true;
+    p->divergence_known = false;
+}
+
+/* The index of `path` in the level list, added when it is not there (or -1). */
+static int level_slot(pg *p, const char *path)
+{
+    for (int i = 0; i < p->level_count; i++)
+        if (same_file(p->levels[i], path)) return i;
+    if (p->level_count >= PG_MAX_LEVELS) return -1;
+    char *d = strdup(path);
+    if (!d) return -1;
+    p->levels[p->level_count] = d;
+    return p->level_count++;
+}
+
+/* Open a level (.ntl) or a replay (.ntr with its level), e.g. dropped on the window. */
+static void open_file(pg *p, const char *path)
+{
+    char why[1200], level[PG_PATH_MAX];
+    if (ends_with(path, ".ntr")) {
+        nt_replay *rp;
+        if (!read_replay(path, &rp, level, sizeof level, why, sizeof why)) {
+            say(p, "%s", why);
+            return;
+        }
+        nt_replay *old = p->replay;
+        nt_game_def saved = p->gdef;
+        nt_real dt = p->dt;
+        bool was_on = p->replay_on;
+        char old_path[PG_PATH_MAX];
+        snprintf(old_path, sizeof old_path, "%s", p->replay_path);
+        record_stop(p);
+        p->replay = rp;
+        p->gdef = nt_default_game_def();
+        use_replay(p, path);
+        if (!load_level(p, level, why, sizeof why)) {
+            nt_replay_destroy(rp);
+            p->replay = old, p->gdef = saved, p->dt = dt, p->replay_on = was_on;
+            snprintf(p->replay_path, sizeof p->replay_path, "%s", old_path);
+            say(p, "%s", why);
+            return;
+        }
+        nt_replay_destroy(old);
+        int k = level_slot(p, level);
+        if (k >= 0) p->level_index = k;
+        say(p, "replay %s on %s", p->replay_path, level);
+        return;
+    }
+    snprintf(level, sizeof level, "%s", path);
+    normalise_path(level);
+    int k = level_slot(p, level);
+    if (k < 0) {
+        say(p, "too many levels open");
+        return;
+    }
+    switch_level(p, k);
+}
+
+/* Go to tick t of the replay: forward by playing its inputs, back by playing them
+ * again from the start (the game is deterministic: the same state as a fresh run). */
+static void seek(pg *p, int t)
+{
+    if (!p->replay_on || !p->game) {
+        say(p, "the timeline is for replays (--replay FILE.ntr, or drop one on the window)");
+        return;
+    }
+    if (p->recording) return;
+    int end = p->replay->ticks;
+    if (t < 0) t = 0;
+    if (t > end) t = end;
+    int now = nt_game_get_state(p->game).tick;
+    if (t < now) {
+        if (!rebuild(p)) return;
+        now = 0;
+    }
+    if (t > now && now >= end) return; /* after the replay the keyboard has it: nothing to play back */
+    while (now < t) {
+        tick(p);
+        int after = nt_game_get_state(p->game).tick;
+        if (after == now) break; /* a failed step (said why) */
+        now = after;
+    }
+    p->paused = true;
+    p->acc = 0;
+}
+
+/* The first tick whose hash differs from the replay's recorded ones (nt_run_replay). */
+static void jump_to_divergence(pg *p)
+{
+    if (!p->replay_on) {
+        say(p, "no replay playing");
+        return;
+    }
+    if (!p->divergence_known) {
+        nt_run_report rep;
+        if (nt_run_replay(p->replay, p->level, &rep) != NT_OK) {
+            say(p, "cannot run the replay");
+            return;
+        }
+        p->divergence = rep.first_divergence;
+        p->divergence_known = true;
+        nt_run_report_free(&rep);
+    }
+    if (p->divergence < 0) {
+        say(p, "no divergence: this build gives every recorded hash of the replay");
+        return;
+    }
+    seek(p, p->divergence);
+    say(p, "tick %d: the first whose state differs from the recorded hashes", p->divergence);
+}
+
 /* ---------------------------------------------------------------- create / destroy */
 
 static nt_status make_palette(nt_world **out)
@@ -1986,36 +2219,11 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
     /* The level to start with: the replay's, the one given, or levels/ninja.ntl. */
     char first[PG_PATH_MAX];
     if (opt->replay_path) {
-        char *text;
-        size_t len;
-        nt_text_error e;
-        if (!read_file(opt->replay_path, &text, &len, why, cap)) {
+        if (!read_replay(opt->replay_path, &p->replay, first, sizeof first, why, cap)) {
             pg_destroy(p);
             return NULL;
         }
-        nt_status s = nt_replay_parse(opt->replay_path, text, len, &p->replay, &e);
-        free(text);
-        if (s != NT_OK) {
-            snprintf(why, cap, "%s", e.message);
-            pg_destroy(p);
-            return NULL;
-        }
-        char dir[PG_PATH_MAX];
-        dir_name(opt->replay_path, dir, sizeof dir);
-        int fits = p->replay->level[0] == '/' ? join(first, sizeof first, p->replay->level, "", "")
-                                               : join(first, sizeof first, dir, "/", p->replay->level);
-        if (!fits) {
-            snprintf(why, cap, "%s: the level path is too long", opt->replay_path);
-            pg_destroy(p);
-            return NULL;
-        }
-        snprintf(p->replay_path, sizeof p->replay_path, "%s", opt->replay_path);
-        p->gdef.override_seed = p->replay->has_seed;
-        p->gdef.seed = p->replay->seed;
-        p->gdef.override_friction_model = p->replay->has_friction_model;
-        p->gdef.friction_model = p->replay->friction_model;
-        p->dt = p->replay->dt;
-        p->replay_on = true;
+        use_replay(p, opt->replay_path);
     }
     pg_options o2 = *opt;
     if (opt->replay_path) o2.level_path = first;
@@ -2080,6 +2288,7 @@ void pg_destroy(pg *p)
     free(p->kind_gen);
     history_clear(p);
     free(p->edits);
+    free(p->open_path);
     free(p->pairs);
     free(p);
 }
@@ -2094,6 +2303,13 @@ void pg_summary(const pg *p, char *out, size_t cap)
         n += snprintf(out + n, cap - (size_t)n, "  player %s", st.complete ? "complete" : st.alive ? "alive" : "dead");
     if (n > 0 && (size_t)n < cap)
         n += snprintf(out + n, cap - (size_t)n, "  level %s%s", p->level_path, p->dirty ? " (edited)" : "");
+    if (n > 0 && (size_t)n < cap && p->replay_on) {
+        if (st.tick < p->replay->ticks)
+            n += snprintf(out + n, cap - (size_t)n, "  replay %s tick %d of %d", p->replay_path, st.tick, p->replay->ticks);
+        else
+            n += snprintf(out + n, cap - (size_t)n, "  replay %s over (%d ticks): you have control", p->replay_path,
+                          p->replay->ticks);
+    }
     if (n > 0 && (size_t)n < cap && p->confirm_cmd >= 0)
         n += snprintf(out + n, cap - (size_t)n, "  asking: discard the edits and %s?", action_name(p->confirm_cmd));
     if (n > 0 && (size_t)n < cap && p->lab && p->has_collision)
@@ -2108,6 +2324,21 @@ void pg_summary(const pg *p, char *out, size_t cap)
 }
 
 const char *pg_message(const pg *p) { return p->clock < p->msg_until ? p->msg : ""; }
+
+void pg_open(pg *p, const char *path)
+{
+    char *d = strdup(path);
+    if (!d) return;
+    free(p->open_path);
+    p->open_path = d;
+    pg_command(p, PG_CMD_OPEN, 0);
+}
+
+void pg_title(const pg *p, char *out, size_t cap)
+{
+    snprintf(out, cap, "ntile-play: %.100s (%.300s)%s", p->level->title[0] ? p->level->title : "untitled", p->level_path,
+             p->dirty ? " *" : "");
+}
 nt_game *pg_game(const pg *p) { return p->game; }
 int pg_tick_count(const pg *p) { return p->game ? nt_game_get_state(p->game).tick : 0; }
 

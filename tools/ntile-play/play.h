@@ -80,9 +80,14 @@ typedef enum pg_cmd {
     PG_CMD_CONFIRM,     /* arg: 1 yes (discard and go on), 0 no (keep the edits), 2 save first */
     PG_CMD_TOOL,        /* arg: a PG_TOOL_*, or -1 / -2: next / previous (F6 / Shift+F6) */
     PG_CMD_MATERIAL,    /* arg: +1 / -1: the material tool's material */
+    PG_CMD_SEEK,        /* arg: the replay's tick to go to (back: played again from the start) */
+    PG_CMD_STEP_BACK,   /* one tick back (pauses) */
+    PG_CMD_REPLAY_END,  /* the replay's last tick */
+    PG_CMD_DIVERGENCE,  /* the first tick whose hash differs from the replay's */
+    PG_CMD_OPEN,        /* open the file pg_open named */
 } pg_cmd;
 
-enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3, PG_MOUSE_PAN = 4 /* Space + left */ };
+enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3, PG_MOUSE_PAN = 4 /* Space + left */, PG_MOUSE_TIMELINE = 5 };
 /* Modifier keys held (pg_set_mods): Shift+right-drag erases, Ctrl+right-drag fills a
  * rectangle, Alt+right-click picks the tile under the mouse (eyedropper). */
 enum { PG_MOD_SHIFT = 1, PG_MOD_CTRL = 2, PG_MOD_ALT = 4 };
@@ -168,6 +173,13 @@ void pg_finish(pg *p);
 /* One line of state for automation: tick, score, bodies, player; in the lab, the last
  * collision's momentum and kinetic energy before and after (as the HUD shows them). */
 void pg_summary(const pg *p, char *out, size_t cap);
+
+/* Open a level (.ntl) or a replay (.ntr) — dropped on the window; asks first when
+ * edits would be lost. */
+void pg_open(pg *p, const char *path);
+
+/* The window's title: the level's title and its (normalised) path, "*" when edited. */
+void pg_title(const pg *p, char *out, size_t cap);
 
 /* State for main.c and the tests. */
 const char *pg_message(const pg *p);

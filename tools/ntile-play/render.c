@@ -841,30 +841,33 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
 static void draw_help(pg *p, pg_canvas *c, int ts)
 {
     char text[4096];
+    int last = p->level_count < 9 ? p->level_count : 9;
     int n = snprintf(text, sizeof text,
-                     "ntile-play - keys and mouse                                  (H closes)\n"
+                     "ntile-play - keys and mouse                                       (H closes)\n"
                      "\n"
-                     "Arrows / WASD   move (pan the view in a level without a player)\n"
-                     "Z / Space  jump      Down + jump  drop through a one-way floor\n"
-                     "X  act (spawners)\n"
-                     "R  restart      PgUp / PgDn, 1-9  switch level      Esc  quit\n"
-                     "P  pause        .  single step         M  slow motion (1, 1/2, 1/4, 1/8)\n"
-                     "+ / -, wheel  zoom     Home  reset zoom\n"
+                     "Arrows / WASD  move (pan the view in a level without a player)\n"
+                     "Z / Space  jump     Down + jump  drop through a one-way floor     X  act\n"
+                     "R  restart (keeps your edits)   PgUp / PgDn, 1-%d  switch level   Esc  quit\n"
+                     "P  pause   .  one tick   ,  one tick back (a replay, played again from the\n"
+                     "   start)   End  the replay's last tick   F7  its first diverging tick;\n"
+                     "   click or drag the timeline at the bottom; drop a .ntl or .ntr here\n"
+                     "+ / -  zoom   wheel  zoom at the cursor   Home  reset the view\n"
+                     "middle-drag, Space+drag  pan     F3  panel left / right / hidden\n"
+                     "Ctrl+Z / Ctrl+Y  undo / redo   F2  save   F5  record / stop\n"
+                     "F6 / Shift+F6  the left button: throw, gold, mine, exit, spawn,\n"
+                     "               one-way, material, platform (or click in the panel)\n"
                      "\n"
-                     "Mouse:  left-drag   throw a ball or box, the drag is its velocity\n"
-                     "        right-drag  paint the selected tile (edge states update live)\n"
-                     "        middle      delete the body under the mouse\n"
-                     "        click the strip on the right to select a tile; Tab / Shift+Tab cycle\n"
+                     "Mouse: left-drag   throw (the drag is the velocity); on a body: select\n"
+                     "                   it and drag it on a spring; with a tool: place, move\n"
+                     "       right-drag  paint the tile   Shift erase   Ctrl rectangle\n"
+                     "       Alt+right   pick the tile under the mouse\n"
+                     "       middle      click: delete the body there; drag: pan\n"
+                     "       the strip on the right: choose a tile (Tab / Shift+Tab cycle)\n"
                      "\n"
-                     "Q  ball / box    L  size 0.6 / 1 / 2 / 4 cells across\n"
-                     "[ ]  bounce -/+    ; '  friction -/+    (of new bodies)\n"
-                     "F  friction model N / Coulomb: the model belongs to the world,\n"
-                     "   so switching rebuilds the world from the level (thrown bodies go)\n"
-                     "F2  save the level (.ntl, with your paint)\n"
-                     "F5  record / stop: restarts the level and writes a replay (.ntr) that\n"
-                     "    `ntile run` replays bit for bit; mouse tools are off while recording\n"
+                     "Q ball / box  L size  [ ] bounce  ; ' friction  F friction model N / Coulomb\n"
                      "\n"
-                     "Gizmos:\n");
+                     "Gizmos (or click them in the panel):\n",
+                     last);
     for (int g = 0; g < PG_GZ_COUNT && n > 0 && (size_t)n < sizeof text; g++)
         n += snprintf(text + n, sizeof text - (size_t)n, "  %c  [%c] %s\n", pg_gizmos[g].key, gz(p, g) ? 'x' : ' ',
                       pg_gizmos[g].what);
@@ -879,6 +882,24 @@ static void draw_help(pg *p, pg_canvas *c, int ts)
     pg_blend_rect(c, x - 10, y - 10, x + tw + 10, y + th + 10, PG_COLOR_PANEL, 215);
     pg_rect(c, x - 10, y - 10, x + tw + 10, y + th + 10, 0x6a7380u);
     pg_text(c, x, y, text, PG_COLOR_TEXT, ts);
+}
+
+/* The replay's timeline: ticks played, the replay's length, the handle; after the
+ * replay's end, "you have control". Click or drag it to go to a tick. */
+static void draw_timeline(pg *p, pg_canvas *c, int ts)
+{
+    if (!p->replay_on || !p->game) return;
+    int x0, y0, x1, y1;
+    pg__timeline_rect(p, &x0, &y0, &x1, &y1);
+    int t = nt_game_get_state(p->game).tick, n = p->replay->ticks > 0 ? p->replay->ticks : 1;
+    pg_blend_rect(c, x0, y0, x1, y1, PG_COLOR_PANEL, 170);
+    int hx = x0 + (int)((double)(t < n ? t : n) / n * (x1 - x0 - 1));
+    pg_fill_rect(c, x0, y1 - 3 * ts, hx, y1, t < n ? PG_COLOR_TIMELINE : PG_COLOR_BANNER_WIN);
+    pg_fill_rect(c, hx - ts, y0, hx + ts + 1, y1, PG_COLOR_SELECT);
+    char text[160];
+    if (t < n) snprintf(text, sizeof text, "replay tick %d of %d   , back  . step  End  F7 first divergence", t, n);
+    else snprintf(text, sizeof text, "replay over (%d ticks): you have control   , back into the replay", n);
+    pg_text(c, x0 + 4, y0 + 2 * ts, text, t < n ? PG_COLOR_TEXT : PG_COLOR_BANNER_WIN, ts);
 }
 
 /* The question before discarding edits. */
@@ -971,6 +992,7 @@ void pg_render(pg *p, pg_canvas *c, double fps)
         free(r.map.e);
     }
     draw_banner(p, c, ts);
+    if (p->opt.hud) draw_timeline(p, c, ts);
     pg_unclip(c);
     if (p->opt.hud) {
         draw_palette(p, c, ts);

@@ -49,6 +49,9 @@ struct pg {
     nt_replay *replay;
     char replay_path[PG_PATH_MAX];
     bool replay_on;
+    bool divergence_known;
+    int divergence; /* the first tick whose hash differs from the recorded ones, -1: none */
+    char *open_path; /* a file to open (dropped on the window) once edits are saved or discarded */
 
     /* Time. */
     double acc;    /* seconds of simulation owed, < dt */
@@ -173,6 +176,8 @@ int pg__text_scale(const pg *p);
 /* The inspector's lines: the cell under the mouse, the body selected ("" when none). */
 void pg__inspect_cell(const pg *p, char *out, size_t cap);
 void pg__inspect_body(const pg *p, char *out, size_t cap);
+/* The replay timeline's bar at the bottom of the view. */
+void pg__timeline_rect(const pg *p, int *x0, int *y0, int *x1, int *y1);
 bool pg__in_view(const pg *p, double x, double y);
 /* Width (and height) of a thrown body, in cells, and the half-size in world units. */
 double pg__throw_cells(const pg *p);
