@@ -1340,6 +1340,35 @@ static void test_replay_over_drop_and_divergence(void **state)
     free(fixed);
 }
 
+
+/* ---------- text ---------- */
+
+/* The font has descenders, at 1x and at 2x (windows 1600 pixels wide and more): the
+ * panel's first line is the level's title, "Ninja", at (4, 4), in the selection
+ * colour; the j's hook goes two font rows below the baseline (rows 7 and 8, under
+ * row 6), the N's does not. */
+static void test_font_descenders(void **state)
+{
+    (void)state;
+    const char *a = scratch_path("font1.bmp"), *b = scratch_path("font2.bmp");
+    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "1", "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/ninja.ntl", "--size", "1700x1000", "--frames", "1", "--screenshot", b, NULL});
+    image i1 = load_bmp(a), i2 = load_bmp(b);
+    for (int s = 1; s <= 2; s++) {
+        const image *im = s == 1 ? &i1 : &i2;
+        int jx = 4 + 3 * PG_CHAR_W * s, base = 4 + 7 * s; /* j: the fourth letter; the first row under the baseline */
+        /* Row 7 of 'j': columns 0 and 3; row 8: columns 1 and 2. */
+        expect_pixel(im, jx, base, PG_COLOR_SELECT, "the j's hook, one row under the baseline");
+        expect_pixel(im, jx + 3 * s, base, PG_COLOR_SELECT, "the j's stem, one row under the baseline");
+        expect_pixel(im, jx + s, base + s, PG_COLOR_SELECT, "the j's hook, two rows under the baseline");
+        assert_int_equal(count_color(im, jx, base + 2 * s, jx + 5 * s, base + 4 * s, PG_COLOR_SELECT), 0); /* nine rows, no more */
+        assert_int_equal(count_color(im, 4, base, 4 + 5 * s, base + 2 * s, PG_COLOR_SELECT), 0);        /* N: none */
+        assert_true(count_color(im, 4, 4, 4 + 5 * s, base, PG_COLOR_SELECT) >= 13 * s * s);             /* N above it */
+    }
+    free(i1.px);
+    free(i2.px);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1521,7 +1550,7 @@ int main(void)
         cmocka_unit_test(test_confirm_before_discard), cmocka_unit_test(test_spawn_free_and_eyedropper),
         cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
         cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
-        cmocka_unit_test(test_replay_over_drop_and_divergence),
+        cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

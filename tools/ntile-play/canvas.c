@@ -292,8 +292,8 @@ int pg_text(pg_canvas *c, int x, int y, const char *text, uint32_t color, int sc
             continue;
         }
         unsigned ch = (*s >= 32 && *s < 127) ? *s : '?';
-        const unsigned char *g = pg_font5x7[ch - 32];
-        for (int row = 0; row < 7; row++)
+        const unsigned char *g = pg_font[ch - 32];
+        for (int row = 0; row < PG_FONT_ROWS; row++)
             for (int col = 0; col < 5; col++)
                 if (g[row] & (0x10u >> col))
                     pg_fill_rect(c, cx + col * scale, y + row * scale, cx + (col + 1) * scale, y + (row + 1) * scale, color);

@@ -714,7 +714,7 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
 {
     p->widget_n = 0;
     if (p->panel_w <= 0) return;
-    panel k = {p, c, p->panel_x, 4, p->panel_w, ts, PG_CHAR_H * ts + 2};
+    panel k = {p, c, p->panel_x, 4, p->panel_w, ts, PG_CHAR_H * ts};
     pg_fill_rect(c, p->panel_x, 0, p->panel_x + p->panel_w, p->win_h, PG_COLOR_PANEL_BG);
     pg_fill_rect(c, p->panel_x + (p->panel == PG_PANEL_LEFT ? p->panel_w - 1 : 0), 0,
                  p->panel_x + (p->panel == PG_PANEL_LEFT ? p->panel_w : 1), p->win_h, 0x3a4452u);
