@@ -1369,6 +1369,34 @@ static void test_font_descenders(void **state)
     free(i2.px);
 }
 
+
+/* Circles: the outline (the bodies gizmo) is the edge of the filled disc, so no fill
+ * pixel touches the background around a puck, and the ring is closed and smooth. */
+static void test_circle_outline(void **state)
+{
+    (void)state;
+    const char *out = scratch_path("circle.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--gizmos", "bodies", "--screenshot", out, NULL});
+    image im = load_bmp(out);
+    nt_vec2 pa = body_after("levels/lab.ntl", "puck_a", 40);
+    int cx = LAB_PX(pa.x), cy = LAB_PX(pa.y), fill = 0, poke = 0;
+    uint32_t f = PG_BODY_FILL(PG_ENGINE_AWAKE);
+    for (int y = cy - 26; y <= cy + 26; y++)
+        for (int x = cx - 26; x <= cx + 26; x++) {
+            if (pixel(&im, x, y) != f) continue;
+            fill++;
+            if (pixel(&im, x + 1, y) == PG_COLOR_BG || pixel(&im, x - 1, y) == PG_COLOR_BG || pixel(&im, x, y + 1) == PG_COLOR_BG ||
+                pixel(&im, x, y - 1) == PG_COLOR_BG)
+                poke++;
+        }
+    assert_true(fill > 900); /* radius 20 pixels: about 1250 inside the ring */
+    if (poke) fail_msg("%d fill pixels of the puck touch the background outside its outline", poke);
+    /* The ring: one pixel wide, about 2 pi r of them. */
+    int ring = count_color(&im, cx - 22, cy - 22, cx + 23, cy + 23, PG_ENGINE_AWAKE);
+    assert_true(ring > 100 && ring < 200);
+    free(im.px);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1551,6 +1579,7 @@ int main(void)
         cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
         cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
         cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
+        cmocka_unit_test(test_circle_outline),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

@@ -955,6 +955,10 @@ static void record_start(pg *p)
         return;
     }
     if (!p->level) return;
+    if (p->dt != p->dt_default) {
+        say(p, "recording plays the replay format's tick, %g s: choose it in the panel (dt) first", (double)p->dt_default);
+        return;
+    }
     /* The replay names a level file: an edited level is saved first, so that the
      * file holds exactly what is played. */
     if (p->dirty && !save_level(p)) return;
