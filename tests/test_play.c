@@ -1397,6 +1397,45 @@ static void test_circle_outline(void **state)
     free(im.px);
 }
 
+
+/* The panel's gizmo checkboxes are clickable: a click on "V velocities" (the fifth box
+ * under the fourth heading, "Gizmos") turns the velocity arrows on. */
+static void test_panel_checkbox_click(void **state)
+{
+    (void)state;
+    const char *before = scratch_path("panel0.bmp"), *after = scratch_path("panel1.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "20", "--screenshot", before, NULL});
+    image a = load_bmp(before);
+    /* The headings' bands down the panel's left edge. */
+    int y = 0, found = 0, top = -1, bottom = -1;
+    while (y < a.h && found < 4) {
+        if (pixel(&a, 1, y) == PG_COLOR_HEADING) {
+            top = y;
+            while (y < a.h && pixel(&a, 1, y) == PG_COLOR_HEADING) y++;
+            bottom = y;
+            found++;
+        } else {
+            y++;
+        }
+    }
+    if (found < 4) fail_msg("found %d headings in the panel, expected at least 4", found);
+    assert_int_equal(bottom - top, PG_CHAR_H);
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_ENGINE_VELOCITY), 0);
+    /* Checkbox rows follow the heading 2 pixels down, one text line each. */
+    int cy = bottom + 2 + 4 * PG_CHAR_H + 3;
+    char script[128];
+    snprintf(script, sizeof script, "2 mouse down left 10 %d\n2 mouse up left 10 %d\n", cy, cy);
+    scratch_write_text("panel.script", script);
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "20", "--script", scratch_path("panel.script"),
+                             "--screenshot", after, NULL});
+    image b = load_bmp(after);
+    assert_true(count_color(&b, PG_PANEL_W, 0, b.w, b.h, PG_ENGINE_VELOCITY) > 20); /* arrows on the pucks */
+    assert_true(count_color(&b, 4, cy - 4, 4 + 7, cy + 4, PG_COLOR_SELECT) > 4);    /* the box ticked */
+    assert_int_equal(count_color(&a, 4, cy - 4, 4 + 7, cy + 4, PG_COLOR_SELECT), 0);
+    free(a.px);
+    free(b.px);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1590,7 +1629,7 @@ int main(void)
         cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
         cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
         cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
-        cmocka_unit_test(test_circle_outline),
+        cmocka_unit_test(test_circle_outline),      cmocka_unit_test(test_panel_checkbox_click),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

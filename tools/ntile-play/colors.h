@@ -12,6 +12,7 @@
 #define PG_COLOR_DEAD_MARK 0xffd0d0u
 #define PG_COLOR_PANEL 0x000000u       /* backgrounds blended over the level (help, banner) */
 #define PG_COLOR_PANEL_BG 0x181d24u    /* the side panel's background */
+#define PG_COLOR_HEADING 0x2a3440u     /* the panel's section headings */
 #define PG_PANEL_W 232                 /* the side panel's width at text scale 1 */
 #define PG_COLOR_TEXT 0xe8e8e8u
 #define PG_COLOR_STRIP 0x1c222au       /* the tile palette's background */

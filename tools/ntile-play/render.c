@@ -632,7 +632,7 @@ static void widget(panel *k, int x0, int y0, int x1, int y1, int cmd, int arg)
 static void heading(panel *k, const char *text)
 {
     k->y += k->lh / 3;
-    pg_fill_rect(k->c, k->x, k->y, k->x + k->w, k->y + k->lh, 0x2a3440u);
+    pg_fill_rect(k->c, k->x, k->y, k->x + k->w, k->y + k->lh, PG_COLOR_HEADING);
     pg_text(k->c, k->x + 4, k->y + 1, text, 0xb0c8e8u, k->ts);
     k->y += k->lh + 2;
 }
