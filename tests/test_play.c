@@ -916,6 +916,16 @@ static void test_dead_player_drawn(void **state)
     assert_int_equal(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER), 0);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER_DEAD) > 20);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_DEAD_MARK) > 5);
+    /* At rest: 80 ticks later the dead player covers the same pixels (the whole level
+     * is in view, the camera does not move). */
+    const char *later = scratch_path("dead-later.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/ninja-mine.ntr", "--frames", "200", "--screenshot", later, NULL});
+    image l = load_bmp(later);
+    for (int y = 0; y < d.h; y++)
+        for (int x = PG_PANEL_W; x < d.w - 80; x++)
+            if ((pixel(&d, x, y) == PG_COLOR_PLAYER_DEAD) != (pixel(&l, x, y) == PG_COLOR_PLAYER_DEAD))
+                fail_msg("the dead player moved between ticks 120 and 200 (pixel (%d, %d))", x, y);
+    free(l.px);
     /* The DEAD banner, large, only once dead. */
     assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_BANNER_DEAD), 0);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_BANNER_DEAD) > 500);
