@@ -1446,6 +1446,34 @@ static void test_panel_checkbox_click(void **state)
     free(b.px);
 }
 
+
+/* F3 moves the panel to the right of the view, then hides it (the view grows), then
+ * brings it back on the left. */
+static void test_panel_moves_and_hides(void **state)
+{
+    (void)state;
+    const char *shots[3] = {scratch_path("f3-1.bmp"), scratch_path("f3-2.bmp"), scratch_path("f3-3.bmp")};
+    const char *scripts[3] = {"1 press F3\n", "1 press F3\n3 press F3\n", "1 press F3\n3 press F3\n5 press F3\n"};
+    int g = 4, c = (640 - 24 - g * 18) / 17;
+    if (c > 28) c = 28;
+    int x0 = 1024 - (2 * c + 3 * g); /* the strip's left edge */
+    for (int i = 0; i < 3; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "f3-%d.script", i + 1);
+        scratch_write_text(name, scripts[i]);
+        play_ok((const char *[]){"levels/ninja.ntl", "--script", scratch_path(name), "--frames", "8", "--screenshot", shots[i], NULL});
+    }
+    image r = load_bmp(shots[0]), h = load_bmp(shots[1]), l = load_bmp(shots[2]);
+    expect_pixel(&r, x0 - PG_PANEL_W + 2, 630, PG_COLOR_PANEL_BG, "the panel on the right");
+    assert_int_equal(count_color(&r, 0, 0, x0 - PG_PANEL_W, 640, PG_COLOR_PANEL_BG), 0);
+    assert_int_equal(count_color(&h, 0, 0, h.w, h.h, PG_COLOR_PANEL_BG), 0); /* hidden */
+    assert_true(count_color(&h, 0, 0, x0, 640, PG_COLOR_TILE) > count_color(&r, 0, 0, x0, 640, PG_COLOR_TILE)); /* a larger level */
+    expect_pixel(&l, 2, 630, PG_COLOR_PANEL_BG, "the panel back on the left");
+    free(r.px);
+    free(h.px);
+    free(l.px);
+}
+
 /* ---------- CPU use when paused, in a real window under Xvfb ---------- */
 
 /* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
@@ -1640,6 +1668,7 @@ int main(void)
         cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
         cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
         cmocka_unit_test(test_circle_outline),      cmocka_unit_test(test_panel_checkbox_click),
+        cmocka_unit_test(test_panel_moves_and_hides),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
