@@ -345,8 +345,8 @@ play-bin: lib cli
 
 # The README's screenshot, made by the playground itself (no display needed).
 screenshot: play-bin
-	SDL_VIDEODRIVER=dummy $(BUILD)/ntile-play --replay tests/replays/ninja.ntr --frames 26 --size 960x600 --zoom 2.2 \
-	  --gizmos edges,grid,velocities,split,contacts,rays --mouse 560 330 --screenshot tools/ntile-play/screenshot.png
+	SDL_VIDEODRIVER=dummy $(BUILD)/ntile-play --replay tests/replays/ninja.ntr --frames 26 --size 1200x720 \
+	  --gizmos edges,grid,velocities,split,contacts,rays --mouse 520 560 --screenshot tools/ntile-play/screenshot.png
 
 # The headless alternative: replay the default level.
 run: $(BUILD)/ntile
