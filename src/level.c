@@ -253,6 +253,12 @@ static int body_fits_map(const nt_level *lv, const nt_level_body *b)
     return inside_map(lv, b->position, b->shape.half) && inside_map(lv, last_instance(b), b->shape.half);
 }
 
+/* 1 + index of a region: whether it names a switch region of the level. */
+static int is_switch(const nt_level *lv, int one_based)
+{
+    return one_based >= 1 && one_based <= lv->region_count && lv->regions[one_based - 1].kind == NT_REGION_SWITCH;
+}
+
 static const char *body_problem(const nt_level *lv, const nt_level_body *b)
 {
     const char *p;
@@ -276,6 +282,14 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
     if (b->is_template && (b->repeat_x > 1 || b->repeat_y > 1)) return "a template cannot repeat";
     if (!body_in_reach(lv, b)) return "position more than 64 cells outside the map";
     if (!body_fits_map(lv, b)) return "a body larger than half a cell must lie inside the map";
+    if (b->door < NT_DOOR_NONE || b->door > NT_DOOR_TRAP) return "unknown door kind";
+    if (b->door != NT_DOOR_NONE && (b->type == NT_BODY_DYNAMIC || b->sensor || b->is_template))
+        return "a door is a solid static or kinematic body, not a template";
+    if ((b->door == NT_DOOR_LOCKED || b->door == NT_DOOR_TRAP) != (b->door_switch != 0)) return "a locked or trap door (only) names its switch";
+    if (b->door_switch != 0 && !is_switch(lv, b->door_switch)) return "the door's switch is not a switch region";
+    if (b->one_way < NT_ONE_WAY_NONE || b->one_way > NT_ONE_WAY_UP) return "unknown one-way side";
+    if (b->one_way != NT_ONE_WAY_NONE && (b->type == NT_BODY_DYNAMIC || b->sensor || b->is_template || b->door != NT_DOOR_NONE))
+        return "a one-way body is a solid static or kinematic body, not a door or a template";
     return NULL;
 }
 
@@ -298,10 +312,12 @@ static const char *path_problem(const nt_level_path *p)
     return NULL;
 }
 
-static const char *region_problem(const nt_level_region *r)
+static const char *region_problem(const nt_level *lv, const nt_level_region *r)
 {
     if (!nt__valid_name(r->name)) return "invalid name";
-    if (r->kind < NT_REGION_ZONE || r->kind > NT_REGION_KILL) return "unknown kind";
+    if (r->kind < NT_REGION_ZONE || r->kind > NT_REGION_SWITCH) return "unknown kind";
+    if (r->needs != 0 && (r->kind != NT_REGION_EXIT || !is_switch(lv, r->needs)))
+        return "only an exit needs a switch, and it must be a switch region";
     if (!fin2(r->lo) || !fin2(r->hi)) return "non-finite corner";
     if (!(r->lo.x < r->hi.x) || !(r->lo.y < r->hi.y)) return "empty region (lo must be below hi)";
     if (r->kind == NT_REGION_SCORE && (r->value < 1 || r->value > 1000000)) return "score value outside 1..1000000";
@@ -383,7 +399,7 @@ static nt_status add_object(nt_level *lv, const char *what, const char *plural, 
 nt_status nt_level_add_region(nt_level *lv, const nt_level_region *r, nt_text_error *err)
 {
     if (!lv || !r) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "region: NULL level or region");
-    return add_object(lv, "region", "regions", r->name, region_problem(r), (void **)&lv->regions, &lv->region_count,
+    return add_object(lv, "region", "regions", r->name, region_problem(lv, r), (void **)&lv->regions, &lv->region_count,
                       r, sizeof *r, NULL, err);
 }
 
@@ -444,7 +460,8 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
         if ((p = path_problem(&lv->paths[i])) != NULL)
             return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: path '%s': %s", lv->paths[i].name, p);
     for (int i = 0; i < lv->region_count; i++)
-        if ((p = region_problem(&lv->regions[i])) != NULL)
+        if ((p = region_problem(lv, &lv->regions[i])) != NULL ||
+            (p = lv->regions[i].needs > i ? "its switch must come before it" : NULL) != NULL)
             return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: region '%s': %s", lv->regions[i].name, p);
     for (int i = 0; i < lv->body_count; i++)
         if ((p = body_problem(lv, &lv->bodies[i])) != NULL)
@@ -839,11 +856,26 @@ static nt_status parse_player(parser *P)
     return NT_OK;
 }
 
+/* The switch region named by field i: *out = 1 + its index. */
+static nt_status switch_at(parser *P, int i, int *out)
+{
+    nt__text *t = &P->t;
+    char name[NT_LEVEL_NAME_MAX];
+    nt_status s = nt__field_name(t, &t->f[i], "switch name", name);
+    if (s != NT_OK) return s;
+    int r = nt_level_find_region(P->lv, name);
+    if (r < 0) return nt__fail_col(t, t->f[i].col, "unknown switch '%s' (switches must be defined before what they open)", name);
+    if (P->lv->regions[r].kind != NT_REGION_SWITCH)
+        return nt__fail_col(t, t->f[i].col, "region '%s' is not a switch (region NAME switch X0 Y0 X1 Y1)", name);
+    *out = r + 1;
+    return NT_OK;
+}
+
 static nt_status parse_region(parser *P)
 {
     nt__text *t = &P->t;
     nt_level *lv = P->lv;
-    static const char form[] = "region NAME zone|exit|score|kill X0 Y0 X1 Y1 [value N]";
+    static const char form[] = "region NAME zone|exit|score|kill|switch X0 Y0 X1 Y1 [value N] [needs SWITCH]";
     char q[NT__QUOTE_MAX];
     nt_level_region r;
     memset(&r, 0, sizeof r);
@@ -852,19 +884,23 @@ static nt_status parse_region(parser *P)
     if (lv->region_count >= NT_LEVEL_MAX_OBJECTS)
         return nt__fail_col(t, t->f[0].col, "too many regions (at most %d)", NT_LEVEL_MAX_OBJECTS);
     if ((s = new_name(P, 1, "region name", r.name)) != NT_OK) return s;
-    static const char *const kinds[4] = {"zone", "exit", "score", "kill"};
+    static const char *const kinds[5] = {"zone", "exit", "score", "kill", "switch"};
     int kind = -1;
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 5; k++)
         if (nt__field_is(&t->f[2], kinds[k])) kind = k;
     if (kind < 0)
-        return nt__fail_col(t, t->f[2].col, "unknown region kind '%s' (expected zone, exit, score or kill)",
+        return nt__fail_col(t, t->f[2].col, "unknown region kind '%s' (expected zone, exit, score, kill or switch)",
                             nt__quote(q, t->f[2].s, t->f[2].n));
     r.kind = (nt_region_kind)kind;
     if ((s = vec_at(P, 3, "region x0", "region y0", &r.lo)) != NT_OK) return s;
     if ((s = vec_at(P, 5, "region x1", "region y1", &r.hi)) != NT_OK) return s;
     if (!(r.lo.x < r.hi.x)) return nt__fail_col(t, t->f[5].col, "region x1 must be greater than x0");
     if (!(r.lo.y < r.hi.y)) return nt__fail_col(t, t->f[6].col, "region y1 must be greater than y0");
-    if (t->nf > 7) {
+    if (t->nf > 7 && nt__field_is(&t->f[7], "needs")) {
+        if (r.kind != NT_REGION_EXIT) return nt__fail_col(t, t->f[7].col, "only exit regions need a switch");
+        if ((s = nt__expect_fields(t, 9, form)) != NT_OK) return s;
+        if ((s = switch_at(P, 8, &r.needs)) != NT_OK) return s;
+    } else if (t->nf > 7) {
         if (!nt__field_is(&t->f[7], "value"))
             return nt__fail_col(t, t->f[7].col, "unexpected field '%s': expected '%s'", nt__quote(q, t->f[7].s, t->f[7].n), form);
         if (r.kind != NT_REGION_SCORE) return nt__fail_col(t, t->f[7].col, "only score regions have a value");
@@ -1004,11 +1040,13 @@ static nt_status parse_body(parser *P)
     if ((s = vec_at(P, i + 1, "x", "y", &b.position)) != NT_OK) return s;
     i += 3;
     /* Options, each at most once. */
-    static const char *const opts[] = {"vel", "mass", "material", "drag", "gravity-scale", "category", "mask", "sensor",
-                                       "no-sleep", "asleep", "path", "phase", "score", "deadly", "template", "repeat"};
-    static const int nargs[] = {2, 1, 2, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 4};
+    static const char *const opts[] = {"vel",   "mass",   "material", "drag",     "gravity-scale", "category",
+                                       "mask",  "sensor", "no-sleep", "asleep",   "path",          "phase",
+                                       "score", "deadly", "template", "repeat",   "door",          "opened-by",
+                                       "closed-by", "one-way"};
+    static const int nargs[] = {2, 1, 2, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 4, 0, 1, 1, 1};
     enum { O_VEL, O_MASS, O_MATERIAL, O_DRAG, O_GSCALE, O_CATEGORY, O_MASK, O_SENSOR, O_NOSLEEP, O_ASLEEP, O_PATH, O_PHASE,
-           O_SCORE, O_DEADLY, O_TEMPLATE, O_REPEAT, O_COUNT };
+           O_SCORE, O_DEADLY, O_TEMPLATE, O_REPEAT, O_DOOR, O_OPENED_BY, O_CLOSED_BY, O_ONE_WAY, O_COUNT };
     int seen[O_COUNT] = {0};
     int material_col = 0, repeat_col = 0;
     while (i < t->nf) {
@@ -1018,7 +1056,8 @@ static nt_status parse_body(parser *P)
         if (o < 0)
             return nt__fail_col(t, t->f[i].col,
                                 "unknown body option '%s' (expected vel, mass, material, drag, gravity-scale, category, mask, "
-                                "sensor, no-sleep, asleep, path, phase, score, deadly, template or repeat)",
+                                "sensor, no-sleep, asleep, path, phase, score, deadly, template, repeat, door, "
+                                "opened-by, closed-by or one-way)",
                                 nt__quote(q, t->f[i].s, t->f[i].n));
         if (seen[o]) return nt__fail_col(t, t->f[i].col, "duplicate body option '%s'", opts[o]);
         seen[o] = t->f[i].col;
@@ -1066,6 +1105,25 @@ static nt_status parse_body(parser *P)
         }
         case O_DEADLY: b.deadly = true; break;
         case O_TEMPLATE: b.is_template = true; break;
+        case O_DOOR:
+        case O_OPENED_BY:
+        case O_CLOSED_BY:
+            if (b.door != NT_DOOR_NONE) {
+                s = nt__fail_col(t, t->f[i].col, "a door is one of 'door', 'opened-by SWITCH' or 'closed-by SWITCH'");
+                break;
+            }
+            b.door = o == O_DOOR ? NT_DOOR_PLAIN : o == O_OPENED_BY ? NT_DOOR_LOCKED : NT_DOOR_TRAP;
+            if (o != O_DOOR) s = switch_at(P, a, &b.door_switch);
+            break;
+        case O_ONE_WAY: {
+            static const char *const sides[4] = {"right", "down", "left", "up"};
+            for (int k = 0; k < 4; k++)
+                if (nt__field_is(&t->f[a], sides[k])) b.one_way = (nt_one_way_side)(k + 1);
+            if (b.one_way == NT_ONE_WAY_NONE)
+                s = nt__fail_col(t, t->f[a].col, "unknown one-way side '%s' (expected right, down, left or up)",
+                                 nt__quote(q, t->f[a].s, t->f[a].n));
+            break;
+        }
         case O_REPEAT: {
             long long nx, ny;
             repeat_col = t->f[i].col;
@@ -1086,6 +1144,13 @@ static nt_status parse_body(parser *P)
     if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, seen[O_PHASE], "'phase' needs 'path'");
     if (b.score > 0 && !b.sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
     if (b.is_template && (b.repeat_x > 1 || b.repeat_y > 1)) return nt__fail_col(t, repeat_col, "a template cannot repeat");
+    if (b.one_way != NT_ONE_WAY_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template || b.door != NT_DOOR_NONE))
+        return nt__fail_col(t, seen[O_ONE_WAY],
+                            "a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
+    if (b.door != NT_DOOR_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template)) {
+        int col = seen[O_DOOR] ? seen[O_DOOR] : seen[O_OPENED_BY] ? seen[O_OPENED_BY] : seen[O_CLOSED_BY];
+        return nt__fail_col(t, col, "a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
+    }
     if (!in_reach(lv, b.position))
         return nt__fail_col(t, t->f[at + 1].col, "position %g %g is more than %d cells outside the map", (double)b.position.x,
                             (double)b.position.y, NT_WORLD_REACH_CELLS);
@@ -1378,6 +1443,11 @@ static void put_body(nt__sink *o, const nt_level *lv, const nt_level_body *b)
         nt__sink_printf(o, " repeat %d %d ", b->repeat_x, b->repeat_y);
         put_vec(o, b->repeat_step);
     }
+    if (b->door == NT_DOOR_PLAIN) nt__sink_puts(o, " door");
+    else if (b->door == NT_DOOR_LOCKED) nt__sink_printf(o, " opened-by %s", lv->regions[b->door_switch - 1].name);
+    else if (b->door == NT_DOOR_TRAP) nt__sink_printf(o, " closed-by %s", lv->regions[b->door_switch - 1].name);
+    static const char *const sides[5] = {"", "right", "down", "left", "up"};
+    if (b->one_way > NT_ONE_WAY_NONE && b->one_way <= NT_ONE_WAY_UP) nt__sink_printf(o, " one-way %s", sides[b->one_way]);
     nt__sink_puts(o, "\n");
 }
 
@@ -1449,7 +1519,7 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
         }
         nt__sink_puts(&o, "\n");
     }
-    static const char *const kinds[4] = {"zone", "exit", "score", "kill"};
+    static const char *const kinds[5] = {"zone", "exit", "score", "kill", "switch"};
     for (int i = 0; i < lv->region_count; i++) {
         const nt_level_region *r = &lv->regions[i];
         nt__sink_printf(&o, "region %s %s ", r->name, kinds[r->kind]);
@@ -1457,6 +1527,7 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
         nt__sink_puts(&o, " ");
         put_vec(&o, r->hi);
         if (r->kind == NT_REGION_SCORE) nt__sink_printf(&o, " value %d", r->value);
+        if (r->needs) nt__sink_printf(&o, " needs %s", lv->regions[r->needs - 1].name);
         nt__sink_puts(&o, "\n");
     }
     for (int i = 0; i < lv->body_count; i++) put_body(&o, lv, &lv->bodies[i]);

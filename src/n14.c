@@ -12,12 +12,21 @@
  *   2 launch pad     (x, y, nx, ny): the tile behind the pad gets material 1 (bounce 1)
  *   5 player spawn   the level's player
  *   7 one-way        (x, y, dir): dir 3 (facing up, N's 0 right 1 down 2 left 3 up) ->
- *                    a HALFu tile with the one-way flag; other directions are not
- *                    supported by one-way cells and are skipped with a warning
- *  11 exit door      (x, y, sx, sy): region "exit" (one cell around the door) and a
- *                    zone "switch" around the switch (the exit is open from the start)
+ *                    a HALFu tile with the one-way flag; the other directions -> a
+ *                    static box over the half of the cell on that side, a one-way
+ *                    body of the game layer (nt_level_body.one_way)
+ *   9 door           (sx, sy, trap, locked, cx, cy, vertical, ox, oy): a static box a
+ *                    cell long and a quarter cell thick through the centre of cell
+ *                    (cx + ox, cy + oy) of the 33 x 25 grid, upright when `vertical` is
+ *                    1. A locked door (locked 1) is solid until its switch (region
+ *                    "doorswitchN", one cell around sx, sy) is on; a trap door (trap 1)
+ *                    closes when it is on; a plain door opens at the player's touch
+ *  11 exit door      (x, y, sx, sy): a switch region "exitswitch" (one cell around sx, sy)
+ *                    and region "exit" (one cell around the door) that needs it: the
+ *                    exit opens only after its switch
  *  12 mine           static sensor circle r 4, deadly
- * Anything else is skipped with a warning. */
+ * Anything else (3 gauss turret, 4 floor guard, 6 drone, 8 thwump, 10 rocket launcher)
+ * is skipped with a warning that names it. */
 #include <stdio.h>
 #include <string.h>
 #include "text.h"
@@ -34,6 +43,15 @@ typedef struct importer {
     void *ctx;
     int counts[16]; /* names: gold1, gold2, ... */
 } importer;
+
+/* N's names of its object types, for warnings. */
+static const char *object_name(long long type)
+{
+    static const char *const names[] = {"gold",       "bounce block", "launch pad",      "gauss turret", "floor guard",
+                                        "player spawn", "drone",       "one-way platform", "thwump",       "door",
+                                        "rocket launcher", "exit door", "mine"};
+    return type >= 0 && type < (long long)(sizeof names / sizeof names[0]) ? names[type] : NULL;
+}
 
 static void warn_at(importer *im, int col, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -80,14 +98,18 @@ static nt_status add_body(importer *im, const char *prefix, int kind, nt_level_b
     return NT_OK;
 }
 
-static nt_status add_region(importer *im, const char *base, nt_region_kind kind, nt_vec2 c, int *counter, int col)
+/* A one-cell region around c named base (base2, base3, ... after the first; numbered from
+ * the first when `numbered`); needs: 1 + the switch region an exit needs, or 0. */
+static nt_status add_region(importer *im, const char *base, nt_region_kind kind, nt_vec2 c, int *counter, int col,
+                            int numbered, int needs)
 {
     nt_level_region r;
     memset(&r, 0, sizeof r);
     ++*counter;
-    if (*counter == 1) snprintf(r.name, sizeof r.name, "%s", base);
+    if (*counter == 1 && !numbered) snprintf(r.name, sizeof r.name, "%s", base);
     else snprintf(r.name, sizeof r.name, "%s%d", base, *counter);
     r.kind = kind;
+    r.needs = needs;
     r.lo = nt_v2(c.x - N14_CELL / 2, c.y - N14_CELL / 2);
     r.hi = nt_v2(c.x + N14_CELL / 2, c.y + N14_CELL / 2);
     nt_text_error e;
@@ -131,19 +153,20 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
         if (!comma) break;
         p = comma + 1;
     }
-    static const int need[13] = {2, 2, 4, -1, -1, 2, -1, 3, -1, -1, -1, 4, 2};
+    static const int need[13] = {2, 2, 4, -1, -1, 2, -1, 3, -1, 9, -1, 4, 2};
     int known = type < 13 && need[type] > 0;
     if (!known) {
-        warn_at(im, col, "N object type %lld is not supported; skipped", type);
+        if (object_name(type)) warn_at(im, col, "N object type %lld (%s) is not supported; skipped", type, object_name(type));
+        else warn_at(im, col, "N object type %lld is not an N object; skipped", type);
         return NT_OK;
     }
     if (nv < need[type])
-        return nt__fail_col(t, col, "object type %lld needs %d values, got %d", type, need[type], nv);
+        return nt__fail_col(t, col, "object type %lld (%s) needs %d values, got %d", type, object_name(type), need[type], nv);
     nt_vec2 pos = nt_v2(v[0], v[1]);
     /* N places every object inside its 33 x 25 playfield: one outside is a broken
      * level, and could not be built as a world (nothing may sit that far out). */
     if (!(pos.x >= 0 && pos.y >= 0 && pos.x <= (nt_real)lv->width * N14_CELL && pos.y <= (nt_real)lv->height * N14_CELL)) {
-        warn_at(im, col, "object at %g,%g lies outside the level; skipped", (double)pos.x, (double)pos.y);
+        warn_at(im, col, "%s at %g,%g lies outside the level; skipped", object_name(type), (double)pos.x, (double)pos.y);
         return NT_OK;
     }
     nt_level_body b = nt_level_default_body(lv);
@@ -184,25 +207,53 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
             warn_at(im, col, "one-way platform with direction %g (expected 0..3); skipped", (double)v[2]);
             return NT_OK;
         }
-        if (dir != 3) {
-            warn_at(im, col, "one-way platform facing %s is not supported (one-way cells stop bodies from above only); skipped",
-                    dirs[dir]);
-            return NT_OK;
-        }
         int cx = cell_of(pos.x), cy = cell_of(pos.y);
         size_t k = (size_t)cy * (size_t)lv->width + (size_t)cx;
         if (!in_map(lv, cx, cy) || lv->tiles[k] != NT_TILE_EMPTY) {
-            warn_at(im, col, "one-way platform at %g,%g is not in an empty cell; skipped", (double)pos.x, (double)pos.y);
+            warn_at(im, col, "one-way platform facing %s at %g,%g is not in an empty cell; skipped", dirs[dir],
+                    (double)pos.x, (double)pos.y);
             return NT_OK;
+        }
+        if (dir != 3) { /* the half of the cell on its side: a one-way body of the game layer */
+            static const nt_one_way_side sides[3] = {NT_ONE_WAY_RIGHT, NT_ONE_WAY_DOWN, NT_ONE_WAY_LEFT};
+            static const int ox[3] = {18, 12, 6}, oy[3] = {12, 18, 12};
+            b.type = NT_BODY_STATIC;
+            b.position = nt_v2((nt_real)(cx * N14_CELL + ox[dir]), (nt_real)(cy * N14_CELL + oy[dir]));
+            b.shape = dir == 1 ? nt_shape_aabb(N14_CELL / 2, N14_CELL / 4) : nt_shape_aabb(N14_CELL / 4, N14_CELL / 2);
+            b.one_way = sides[dir];
+            return add_body(im, "oneway", 7, &b, col);
         }
         lv->tiles[k] = NT_TILE_HALFu;
         lv->cell_flags[k] = NT_CELL_ONE_WAY;
         return NT_OK;
     }
-    case 11: { /* exit door and its switch */
-        st = add_region(im, "exit", NT_REGION_EXIT, pos, &im->counts[11], col);
+    case 9: { /* door: the switch first (the door names it), then the door */
+        int trap = v[2] != 0, locked = v[3] != 0;
+        nt_real cx = v[4] + v[7], cy = v[5] + v[8];
+        if (!(cx >= 0 && cy >= 0 && cx < (nt_real)lv->width && cy < (nt_real)lv->height) || cx != (nt_real)(int)cx ||
+            cy != (nt_real)(int)cy) {
+            warn_at(im, col, "door in cell %g,%g lies outside the level; skipped", (double)cx, (double)cy);
+            return NT_OK;
+        }
+        if (trap && locked) {
+            warn_at(im, col, "door at cell %g,%g is both a trap door and a locked door; skipped", (double)cx, (double)cy);
+            return NT_OK;
+        }
+        b.type = NT_BODY_STATIC;
+        b.position = nt_v2(cx * N14_CELL + N14_CELL / 2, cy * N14_CELL + N14_CELL / 2);
+        b.shape = v[6] != 0 ? nt_shape_aabb(3, N14_CELL / 2) : nt_shape_aabb(N14_CELL / 2, 3);
+        b.door = trap ? NT_DOOR_TRAP : locked ? NT_DOOR_LOCKED : NT_DOOR_PLAIN;
+        if (trap || locked) {
+            st = add_region(im, "doorswitch", NT_REGION_SWITCH, pos, &im->counts[14], col, 1, 0);
+            if (st != NT_OK) return st;
+            b.door_switch = lv->region_count; /* 1 + the switch's index */
+        }
+        return add_body(im, trap ? "trapdoor" : locked ? "lockeddoor" : "door", trap ? 15 : locked ? 10 : 9, &b, col);
+    }
+    case 11: { /* exit door and its switch: the switch first, the exit needs it */
+        st = add_region(im, "exitswitch", NT_REGION_SWITCH, nt_v2(v[2], v[3]), &im->counts[13], col, 0, 0);
         if (st != NT_OK) return st;
-        return add_region(im, "switch", NT_REGION_ZONE, nt_v2(v[2], v[3]), &im->counts[13], col);
+        return add_region(im, "exit", NT_REGION_EXIT, pos, &im->counts[11], col, 0, lv->region_count);
     }
     case 12: /* mine */
         b.type = NT_BODY_STATIC;

@@ -494,6 +494,8 @@ static int glide(const nt_world *w, const nt__body *b, nt_vec2 p, nt_resolution 
     if (!b->ntc || w->oneway_count || (b->flags & NT__BF_LARGE)) return 0;
     nt_vec2 n = b->tc[0].n;
     if (b->ntc == 2 && !(nt__dot(b->tc[1].n, n) > R(0.999))) return 0;
+    /* (A curve held it: its normal will have turned.) */
+    if (nt__tiles[nt__map_tile(w->map, b->tc[0].cx, b->tc[0].cy)].cls != NT_CLASS_POLYGON) return 0;
     if (nt__dot(b->v, n) < 0) return 0;
     nt_real skin = body_skin(w, b), tol = SKIN_BAND * skin;
     nt_shape s = nt__body_shape(b);

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bench.h"
 #include "bench_character.h"
 #include "engine.h"
 #include "geometry.h"
@@ -408,6 +409,24 @@ static void test_svg(void **state)
     free(buf);
 }
 
+/* The busy-host warning: above 25 % only, naming the benchmark, the figure and its spread. */
+static void test_spread_warning(void **state)
+{
+    (void)state;
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    assert_int_equal(bench_warn_spread(f, "world", "rain", 25.0), 0);
+    assert_int_equal(bench_warn_spread(f, "world", "rain", 3.5), 0);
+    assert_int_equal(ftell(f), 0);
+    assert_int_equal(bench_warn_spread(f, "world", "rain", 25.1), 1);
+    rewind(f);
+    char line[512] = "";
+    assert_non_null(fgets(line, sizeof line, f));
+    assert_string_equal(line, "ntile bench world: warning: rain: spread 25.1 % over the runs (above 25 %): the host was "
+                              "busy, the time is not reliable; run again on a quiet machine\n");
+    fclose(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -415,7 +434,7 @@ int main(void)
         cmocka_unit_test(test_tracker),     cmocka_unit_test(test_body_overlap),
         cmocka_unit_test(test_overlap_percentile), cmocka_unit_test(test_rain_overlap), cmocka_unit_test(test_scenes),
         cmocka_unit_test(test_character_scene), cmocka_unit_test(test_outlines),    cmocka_unit_test(test_pareto),    cmocka_unit_test(test_csv_split),
-        cmocka_unit_test(test_svg),
+        cmocka_unit_test(test_svg), cmocka_unit_test(test_spread_warning),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

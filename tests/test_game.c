@@ -561,6 +561,141 @@ static void test_gold_exit_and_regions(void **state)
     nt_level_destroy(lv);
 }
 
+/* A corridor of 12 x 5 cells: floor at y 96, walls at x 24 and 264. */
+#define CORRIDOR \
+    "ntile-level 1\nsize 12 5\ntiles\n" \
+    "|############|\n|#..........#|\n|#..........#|\n|#..........#|\n|############|\n"
+
+/* Step with `keys` until the player's x passes `x` (from below when dir > 0, from above
+ * when dir < 0) or `most` ticks went by; the ticks taken. */
+static int run_until(nt_game *g, uint32_t keys, double x, int dir, int most)
+{
+    int n = 0;
+    while (n < most && (dir > 0 ? (double)ppos(g).x < x : (double)ppos(g).x > x)) {
+        steps(g, keys, 1);
+        n++;
+    }
+    return n;
+}
+
+/* An exit that needs its switch completes nothing until the switch is on; the same
+ * exit without the switch completes at the first pass. */
+static void test_exit_switch(void **state)
+{
+    (void)state;
+    static const char with[] = CORRIDOR "player 40 86\nregion sw switch 200 24 230 96\n"
+                                        "region door exit 90 24 110 96 needs sw\n";
+    static const char without[] = CORRIDOR "player 40 86\nregion sw switch 200 24 230 96\nregion door exit 90 24 110 96\n";
+    nt_level *lv = level_from(without);
+    nt_game *g = game_from(lv, NULL);
+    run_until(g, NT_INPUT_RIGHT, 150, 1, 200);
+    assert_true(nt_game_get_state(g).complete); /* the control: an exit without a switch */
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    lv = level_from(with);
+    assert_int_equal(lv->regions[1].needs, 1);
+    g = game_from(lv, NULL);
+    assert_false(nt_game_switch_is_on(g, 0));
+    assert_true(run_until(g, NT_INPUT_RIGHT, 150, 1, 200) < 200);
+    assert_false(nt_game_get_state(g).complete); /* through the exit: closed */
+    assert_true(run_until(g, NT_INPUT_RIGHT, 215, 1, 200) < 200);
+    assert_true(nt_game_switch_is_on(g, 0));
+    assert_false(nt_game_switch_is_on(g, 1)); /* an exit is no switch */
+    assert_false(nt_game_get_state(g).complete);
+    assert_true(run_until(g, NT_INPUT_LEFT, 100, -1, 200) < 200);
+    nt_game_state st = nt_game_get_state(g);
+    assert_true(st.complete && st.alive);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
+/* Doors: a locked door holds the player until its switch is on, then is gone; a trap
+ * door lets the player through and closes behind it when its switch goes on; a plain
+ * door opens at the player's touch. */
+static void test_doors(void **state)
+{
+    (void)state;
+    static const char locked[] = CORRIDOR "player 100 86\nregion sw switch 24 24 48 96\n"
+                                          "body gate static box 3 36 at 150 60 opened-by sw\n";
+    nt_level *lv = level_from(locked);
+    nt_game *g = game_from(lv, NULL);
+    steps(g, NT_INPUT_RIGHT, 60);
+    assert_true((double)ppos(g).x < 150 - 3 - 9); /* held by the door */
+    assert_false(nt_body_id_is_null(nt_game_find_body(g, "gate")));
+    assert_true(run_until(g, NT_INPUT_LEFT, 45, -1, 200) < 200);
+    assert_true(nt_game_switch_is_on(g, 0));
+    assert_true(nt_body_id_is_null(nt_game_find_body(g, "gate"))); /* opened */
+    assert_true(run_until(g, NT_INPUT_RIGHT, 200, 1, 200) < 200);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    static const char trap[] = CORRIDOR "player 40 86\nregion sw switch 200 24 230 96\n"
+                                        "body gate static box 3 36 at 150 60 closed-by sw\n";
+    lv = level_from(trap);
+    g = game_from(lv, NULL);
+    nt_world *w = nt_game_get_world(g);
+    nt_body_id gate = nt_game_find_body(g, "gate");
+    assert_int_equal(nt_body_get_mask(w, gate), 0); /* open: it collides with nothing */
+    assert_true(run_until(g, NT_INPUT_RIGHT, 215, 1, 200) < 200); /* through the open door, onto the switch */
+    assert_true(nt_game_switch_is_on(g, 0));
+    assert_int_equal(nt_body_get_category(w, gate), 1);
+    assert_int_equal(nt_body_get_mask(w, gate), 0xffffffffu);
+    steps(g, NT_INPUT_LEFT, 80);
+    assert_true((double)ppos(g).x > 150 + 3 + 9); /* shut in */
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    static const char plain[] = CORRIDOR "player 40 86\nbody gate static box 3 36 at 150 60 door\n";
+    lv = level_from(plain);
+    g = game_from(lv, NULL);
+    assert_true(run_until(g, NT_INPUT_RIGHT, 200, 1, 200) < 200);
+    assert_true(nt_body_id_is_null(nt_game_find_body(g, "gate")));
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    /* Without the door the level plays the same up to the door: the door is what held the player. */
+    static const char open[] = CORRIDOR "player 100 86\nregion sw switch 24 24 48 96\n";
+    lv = level_from(open);
+    g = game_from(lv, NULL);
+    steps(g, NT_INPUT_RIGHT, 60);
+    assert_true((double)ppos(g).x > 200);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
+/* One-way bodies of the game layer facing right and left: passable from behind, solid
+ * to a player wholly on the side they face. */
+static void test_one_way_sides(void **state)
+{
+    (void)state;
+    static const char right[] = CORRIDOR "player 40 86\nbody w static box 6 36 at 150 60 one-way right\n";
+    nt_level *lv = level_from(right);
+    nt_game *g = game_from(lv, NULL);
+    assert_true(run_until(g, NT_INPUT_RIGHT, 200, 1, 200) < 200); /* through it from behind */
+    steps(g, NT_INPUT_LEFT, 80);
+    assert_true((double)ppos(g).x >= 156 + 10 - 0.5); /* stopped on its face */
+    assert_true((double)ppos(g).x < 175);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+
+    static const char left[] = CORRIDOR "player 40 86\nbody w static box 6 36 at 150 60 one-way left\n";
+    lv = level_from(left);
+    g = game_from(lv, NULL);
+    steps(g, NT_INPUT_RIGHT, 80);
+    assert_true((double)ppos(g).x <= 144 - 10 + 0.5); /* stopped on its face */
+    assert_true((double)ppos(g).x > 120);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+    /* From the other side the left-facing one lets the player through. */
+    static const char left2[] = CORRIDOR "player 230 86\nbody w static box 6 36 at 150 60 one-way left\n";
+    lv = level_from(left2);
+    g = game_from(lv, NULL);
+    assert_true(run_until(g, NT_INPUT_LEFT, 100, -1, 200) < 200);
+    nt_game_destroy(g);
+    nt_level_destroy(lv);
+}
+
 /* Bodies and tiles changed through the game: added bodies count as the game's, bad
  * input changes nothing, the player cannot be removed, tile edits act at once. */
 static void test_changes_through_the_game(void **state)
@@ -1078,6 +1213,9 @@ int main(void)
         cmocka_unit_test(test_runner_hashes_and_divergence),
         cmocka_unit_test(test_large_bodies),
         cmocka_unit_test(test_game_errors),
+        cmocka_unit_test(test_exit_switch),
+        cmocka_unit_test(test_doors),
+        cmocka_unit_test(test_one_way_sides),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -291,14 +291,14 @@ static void test_object_errors(void **state)
     parse_fails(HEAD GRID "player 1 1\nplayer 2 2\n", "t.ntl:7:1: duplicate 'player' (first at line 6)");
     parse_fails(HEAD GRID "player 1\n", "t.ntl:6:9: missing fields: expected 'player X Y'");
     parse_fails(HEAD GRID "region r lava 0 0 1 1\n",
-                "t.ntl:6:10: unknown region kind 'lava' (expected zone, exit, score or kill)");
+                "t.ntl:6:10: unknown region kind 'lava' (expected zone, exit, score, kill or switch)");
     parse_fails(HEAD GRID "region r zone 0 0 0 1\n", "t.ntl:6:19: region x1 must be greater than x0");
     parse_fails(HEAD GRID "region r zone 0 5 1 1\n", "t.ntl:6:21: region y1 must be greater than y0");
     parse_fails(HEAD GRID "region r score 0 0 1 1\n", "t.ntl:6:23: a score region needs 'value N'");
     parse_fails(HEAD GRID "region r exit 0 0 1 1 value 3\n", "t.ntl:6:23: only score regions have a value");
     parse_fails(HEAD GRID "region r score 0 0 1 1 value 0\n", "t.ntl:6:30: score value '0' is out of range 1..1000000");
     parse_fails(HEAD GRID "region r zone 0 0 1\n",
-                "t.ntl:6:20: missing fields: expected 'region NAME zone|exit|score|kill X0 Y0 X1 Y1 [value N]'");
+                "t.ntl:6:20: missing fields: expected 'region NAME zone|exit|score|kill|switch X0 Y0 X1 Y1 [value N] [needs SWITCH]'");
     parse_fails(HEAD GRID "region 9r zone 0 0 1 1\n",
                 "t.ntl:6:8: region name '9r' is not a valid name (a letter or '_', then letters, digits, '_', '-' or "
                 "'.'; at most 31 characters)");
@@ -349,7 +349,7 @@ static void test_body_errors(void **state)
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 nan\n", "t.ntl:6:30: y 'nan' is not a finite number");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 spin 3\n",
                 "t.ntl:6:32: unknown body option 'spin' (expected vel, mass, material, drag, gravity-scale, category, mask, "
-                "sensor, no-sleep, asleep, path, phase, score, deadly, template or repeat)");
+                "sensor, no-sleep, asleep, path, phase, score, deadly, template, repeat, door, opened-by, closed-by or one-way)");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1 mass 2\n", "t.ntl:6:39: duplicate body option 'mass'");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 0\n", "t.ntl:6:37: mass '0' must be > 0");
     parse_fails(HEAD GRID "body b dynamic circle 1 at 0 0 mass 1e-40\n", "t.ntl:6:37: mass '1e-40' is outside 1e-12 .. 1e12");
@@ -549,6 +549,74 @@ static void test_large_bodies(void **state)
     assert_string_equal(e.message, "body 'out': a body larger than half a cell must lie inside the map");
     nb.is_template = true; /* created where its spawner says */
     assert_int_equal(nt_level_add_body(lv, &nb, NULL, NULL), NT_OK);
+    nt_level_destroy(lv);
+}
+
+/* Switches, exits that need them, and doors: what parses, what writes back, what fails. */
+static void test_switches_and_doors(void **state)
+{
+    (void)state;
+    static const char text[] = HEAD GRID "region sw switch 0 0 10 10\nregion sw2 switch 20 0 30 10\n"
+                                         "region out exit 40 0 50 10 needs sw2\n"
+                                         "body a static box 2 10 at 12 12 opened-by sw\n"
+                                         "body b kinematic box 2 10 at 30 12 closed-by sw2\n"
+                                         "body c static box 2 10 at 50 12 door\n"
+                                         "body d static box 6 12 at 60 12 one-way right\nbody e kinematic box 6 12 at 60 12 one-way up\n";
+    nt_level *lv = parse_ok(text);
+    assert_int_equal(lv->regions[0].kind, NT_REGION_SWITCH);
+    assert_int_equal(lv->regions[2].kind, NT_REGION_EXIT);
+    assert_int_equal(lv->regions[2].needs, 2);
+    assert_int_equal(lv->regions[0].needs, 0);
+    assert_true(lv->bodies[0].door == NT_DOOR_LOCKED && lv->bodies[0].door_switch == 1);
+    assert_true(lv->bodies[1].door == NT_DOOR_TRAP && lv->bodies[1].door_switch == 2);
+    assert_true(lv->bodies[2].door == NT_DOOR_PLAIN && lv->bodies[2].door_switch == 0);
+    assert_true(lv->bodies[3].one_way == NT_ONE_WAY_RIGHT && lv->bodies[4].one_way == NT_ONE_WAY_UP);
+    assert_true(lv->bodies[0].one_way == NT_ONE_WAY_NONE);
+    char *out = write_level(lv);
+    if (!strstr(out, "region sw switch 0 0 10 10\n") || !strstr(out, "region out exit 40 0 50 10 needs sw2\n") ||
+        !strstr(out, " opened-by sw\n") || !strstr(out, " closed-by sw2\n") || !strstr(out, " door\n") ||
+        !strstr(out, " one-way right\n") || !strstr(out, " one-way up\n"))
+        fail_msg("canonical text:\n%s", out);
+    free(out);
+    nt_level_destroy(lv);
+    roundtrip_text(text);
+
+    parse_fails(HEAD GRID "region r zone 0 0 1 1 needs sw\n", "t.ntl:6:23: only exit regions need a switch");
+    parse_fails(HEAD GRID "region r exit 0 0 1 1 needs sw\n",
+                "t.ntl:6:29: unknown switch 'sw' (switches must be defined before what they open)");
+    parse_fails(HEAD GRID "region z zone 0 0 1 1\nregion r exit 0 0 1 1 needs z\n",
+                "t.ntl:7:29: region 'z' is not a switch (region NAME switch X0 Y0 X1 Y1)");
+    parse_fails(HEAD GRID "region sw switch 0 0 1 1\nregion r exit 0 0 1 1 needs sw x\n",
+                "t.ntl:7:32: unexpected field: expected 'region NAME zone|exit|score|kill|switch X0 Y0 X1 Y1 [value N] [needs SWITCH]'");
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 opened-by nothing\n",
+                "t.ntl:6:40: unknown switch 'nothing' (switches must be defined before what they open)");
+    parse_fails(HEAD GRID "region sw switch 0 0 1 1\nbody d dynamic box 2 2 at 5 5 closed-by sw\n",
+                "t.ntl:7:31: a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 sensor door\n",
+                "t.ntl:6:37: a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
+    parse_fails(HEAD GRID "region sw switch 0 0 1 1\nbody d static box 2 2 at 5 5 door opened-by sw\n",
+                "t.ntl:7:35: a door is one of 'door', 'opened-by SWITCH' or 'closed-by SWITCH'");
+
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 one-way sideways\n",
+                "t.ntl:6:38: unknown one-way side 'sideways' (expected right, down, left or up)");
+    parse_fails(HEAD GRID "body d dynamic box 2 2 at 5 5 one-way up\n",
+                "t.ntl:6:31: a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
+    parse_fails(HEAD GRID "body d static box 2 2 at 5 5 door one-way up\n",
+                "t.ntl:6:35: a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
+
+    /* The API checks the same. */
+    lv = parse_ok(HEAD GRID "region sw switch 0 0 1 1\nregion r exit 0 0 1 1\nbody d static box 2 2 at 5 5\n");
+    nt_text_error e;
+    lv->regions[1].needs = 2; /* itself: not a switch */
+    assert_int_equal(nt_level_validate(lv, &e), NT_ERR_INVALID_ARGUMENT);
+    lv->regions[1].needs = 1;
+    assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
+    lv->bodies[0].door = NT_DOOR_LOCKED; /* without its switch */
+    assert_int_equal(nt_level_validate(lv, NULL), NT_ERR_INVALID_ARGUMENT);
+    lv->bodies[0].door_switch = 1;
+    assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
+    lv->bodies[0].door_switch = 2; /* the exit is no switch */
+    assert_int_equal(nt_level_validate(lv, NULL), NT_ERR_INVALID_ARGUMENT);
     nt_level_destroy(lv);
 }
 
@@ -855,6 +923,7 @@ int main(void)
         cmocka_unit_test(test_setting_errors),
         cmocka_unit_test(test_grid_errors),
         cmocka_unit_test(test_object_errors),
+        cmocka_unit_test(test_switches_and_doors),
         cmocka_unit_test(test_body_errors),
         cmocka_unit_test(test_spawner_errors),
         cmocka_unit_test(test_parse_out_of_memory),

@@ -134,8 +134,9 @@ static void test_objects(void **state)
     const char *text = level_string("objects", t, objects);
     nt_level *lv = import_ok(text, 0, &w);
     assert_true(lv->has_player && lv->player.x == 60 && lv->player.y == 516);
-    /* gold: static sensors with a score; the mine: a deadly sensor; the block: dynamic */
-    assert_int_equal(lv->body_count, 4);
+    /* gold: static sensors with a score; the mine: a deadly sensor; the block: dynamic; the locked door;
+     * the one-way platform facing right */
+    assert_int_equal(lv->body_count, 6);
     const nt_level_body *g = &lv->bodies[nt_level_find_body(lv, "gold2")];
     assert_true(g->type == NT_BODY_STATIC && g->sensor && g->score == 1 && !g->deadly);
     assert_true(g->shape.type == NT_SHAPE_CIRCLE && g->shape.half.x == 6 && g->position.x == 132);
@@ -143,34 +144,41 @@ static void test_objects(void **state)
     assert_true(m->sensor && m->deadly && m->score == 0 && m->shape.half.x == 4);
     const nt_level_body *b = &lv->bodies[nt_level_find_body(lv, "block1")];
     assert_true(b->type == NT_BODY_DYNAMIC && b->shape.type == NT_SHAPE_AABB && b->shape.half.x == (nt_real)9.6);
-    /* the exit door: a one-cell exit region; its switch a zone */
-    int ex = nt_level_find_region(lv, "exit"), sw = nt_level_find_region(lv, "switch");
-    assert_true(ex >= 0 && sw >= 0);
+    /* the exit door: a one-cell exit region that needs its switch, a switch region before it */
+    int ex = nt_level_find_region(lv, "exit"), sw = nt_level_find_region(lv, "exitswitch");
+    assert_true(ex >= 0 && sw >= 0 && sw < ex);
     assert_int_equal(lv->regions[ex].kind, NT_REGION_EXIT);
+    assert_int_equal(lv->regions[ex].needs, sw + 1);
     assert_true(lv->regions[ex].lo.x == 576 && lv->regions[ex].lo.y == 480 && lv->regions[ex].hi.x == 600);
-    assert_true(lv->regions[sw].kind == NT_REGION_ZONE && lv->regions[sw].lo.x == 156);
+    assert_true(lv->regions[sw].kind == NT_REGION_SWITCH && lv->regions[sw].lo.x == 156);
+    /* the locked door 9^60,60,0,1,15,15,0,-1,0: its switch around (60, 60), the door a
+     * flat box (not upright: 0) through the centre of cell (15 - 1, 15 + 0) */
+    const nt_level_body *d = &lv->bodies[nt_level_find_body(lv, "lockeddoor1")];
+    int ds = nt_level_find_region(lv, "doorswitch1");
+    assert_true(ds >= 0 && lv->regions[ds].kind == NT_REGION_SWITCH && lv->regions[ds].lo.x == 48);
+    assert_true(d->type == NT_BODY_STATIC && d->door == NT_DOOR_LOCKED && d->door_switch == ds + 1 && !d->sensor);
+    assert_true(d->position.x == 14 * 24 + 12 && d->position.y == 15 * 24 + 12);
+    assert_true(d->shape.half.x == 12 && d->shape.half.y == 3);
     /* one-way facing up at (324, 228) = cell (13, 9): a one-way HALFu; (36, 48): cell (1, 2) */
     assert_int_equal(tile_at(lv, 13, 9), NT_TILE_HALFu);
     assert_int_equal(lv->cell_flags[9 * 33 + 13], NT_CELL_ONE_WAY);
     assert_int_equal(tile_at(lv, 1, 2), NT_TILE_HALFu);
-    assert_int_equal(tile_at(lv, 12, 9), NT_TILE_EMPTY); /* the one facing right was skipped */
+    assert_int_equal(tile_at(lv, 12, 9), NT_TILE_EMPTY); /* the one facing right is a body over the cell's right half */
+    const nt_level_body *ow = &lv->bodies[nt_level_find_body(lv, "oneway1")];
+    assert_true(ow->type == NT_BODY_STATIC && ow->one_way == NT_ONE_WAY_RIGHT && !ow->sensor);
+    assert_true(ow->position.x == 12 * 24 + 18 && ow->position.y == 9 * 24 + 12 && ow->shape.half.x == 6 && ow->shape.half.y == 12);
     /* launch pads: the cell behind gets material 1, which bounces fully */
     assert_int_equal(lv->cell_materials[24 * 33 + 1], 1);  /* floor pad at (36, 576): border cell (1, 24) */
     assert_int_equal(lv->cell_materials[9 * 33 + 8], 1);   /* diagonal pad: behind it, cell (8, 9) */
     assert_true(lv->materials[1].bounce == 1);
-    assert_int_equal(w.count, 4);
+    assert_int_equal(w.count, 2);
     /* Warnings name the object's column in the line. */
-    char want[4][256];
-    const char *at_right = strstr(text, "7^300");
+    char want[2][256];
     const char *at_pad = strstr(text, "2^400");
-    const char *at_9 = strstr(text, "9^60");
     const char *at_5 = strstr(text, "5^100");
-    snprintf(want[0], 256, "t.n:1:%d: warning: one-way platform facing right is not supported (one-way cells stop bodies "
-                           "from above only); skipped", (int)(at_right - text) + 1);
-    snprintf(want[1], 256, "t.n:1:%d: warning: launch pad at 400,300 has no tile behind it; skipped", (int)(at_pad - text) + 1);
-    snprintf(want[2], 256, "t.n:1:%d: warning: N object type 9 is not supported; skipped", (int)(at_9 - text) + 1);
-    snprintf(want[3], 256, "t.n:1:%d: warning: a second player spawn at 100,100; skipped", (int)(at_5 - text) + 1);
-    for (int i = 0; i < 4; i++) assert_string_equal(w.text[i], want[i]);
+    snprintf(want[0], 256, "t.n:1:%d: warning: launch pad at 400,300 has no tile behind it; skipped", (int)(at_pad - text) + 1);
+    snprintf(want[1], 256, "t.n:1:%d: warning: a second player spawn at 100,100; skipped", (int)(at_5 - text) + 1);
+    for (int i = 0; i < 2; i++) assert_string_equal(w.text[i], want[i]);
     assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
     /* The import writes and reads back as any level. */
     size_t n = nt_level_write(lv, NULL, 0);
@@ -180,9 +188,61 @@ static void test_objects(void **state)
     assert_int_equal(nt_level_parse("out.ntl", out, n, &back, NULL), NT_OK);
     assert_memory_equal(back->tiles, lv->tiles, 33 * 25);
     assert_memory_equal(back->cell_flags, lv->cell_flags, 33 * 25);
-    assert_int_equal(back->body_count, 4);
+    assert_int_equal(back->body_count, 6);
+    assert_int_equal(back->bodies[nt_level_find_body(back, "oneway1")].one_way, NT_ONE_WAY_RIGHT);
+    assert_int_equal(back->regions[ex].needs, sw + 1);
+    assert_int_equal(back->bodies[nt_level_find_body(back, "lockeddoor1")].door, NT_DOOR_LOCKED);
     nt_level_destroy(back);
     free(out);
+    nt_level_destroy(lv);
+}
+
+/* Objects ntile does not have are named in their warnings; trap and plain doors. */
+static void test_object_names_and_doors(void **state)
+{
+    (void)state;
+    char t[COLS * ROWS + 1];
+    blank_tiles(t);
+    const char *objects = "3^100,100!4^100,100,1!6^100,100,0,0,0,0!8^100,100,1!10^100,100!13^1,1!"
+                          "9^84,324,1,0,10,14,1,0,0!9^204,204,0,0,1,14,1,0,0!9^84,324,1,1,5,5,1,0,0!9^84,324,0,1,40,5,1,0,0!"
+                          "7^60,420,1!7^84,420,2!7^12,12,0";
+    warnings w = {0};
+    const char *text = level_string("names", t, objects);
+    nt_level *lv = import_ok(text, 0, &w);
+    static const char *const want[] = {
+        "N object type 3 (gauss turret) is not supported; skipped",
+        "N object type 4 (floor guard) is not supported; skipped",
+        "N object type 6 (drone) is not supported; skipped",
+        "N object type 8 (thwump) is not supported; skipped",
+        "N object type 10 (rocket launcher) is not supported; skipped",
+        "N object type 13 is not an N object; skipped",
+        "door at cell 5,5 is both a trap door and a locked door; skipped",
+        "door in cell 40,5 lies outside the level; skipped",
+        "one-way platform facing right at 12,12 is not in an empty cell; skipped",
+    };
+    assert_int_equal(w.count, 9);
+    for (int i = 0; i < 9; i++) {
+        const char *tail = strstr(w.text[i], ": warning: ");
+        if (!tail || strcmp(tail + 11, want[i]) != 0) fail_msg("warning %d: '%s', expected '...: warning: %s'", i, w.text[i], want[i]);
+    }
+    /* The trap door: upright in cell (10, 14), its switch around (84, 324); the plain door in cell (1, 14). */
+    const nt_level_body *trap = &lv->bodies[nt_level_find_body(lv, "trapdoor1")];
+    int sw = nt_level_find_region(lv, "doorswitch1");
+    assert_true(sw >= 0 && lv->regions[sw].kind == NT_REGION_SWITCH && lv->regions[sw].lo.x == 72 && lv->regions[sw].lo.y == 312);
+    assert_true(trap->door == NT_DOOR_TRAP && trap->door_switch == sw + 1);
+    assert_true(trap->position.x == 10 * 24 + 12 && trap->position.y == 14 * 24 + 12);
+    assert_true(trap->shape.half.x == 3 && trap->shape.half.y == 12);
+    const nt_level_body *plain = &lv->bodies[nt_level_find_body(lv, "door1")];
+    assert_true(plain->door == NT_DOOR_PLAIN && plain->door_switch == 0 && plain->position.x == 36);
+    /* One-way platforms facing down and left: the bottom and the left half of their cells. */
+    const nt_level_body *down = &lv->bodies[nt_level_find_body(lv, "oneway1")];
+    const nt_level_body *leftw = &lv->bodies[nt_level_find_body(lv, "oneway2")];
+    assert_true(down->one_way == NT_ONE_WAY_DOWN && down->position.x == 2 * 24 + 12 && down->position.y == 17 * 24 + 18);
+    assert_true(down->shape.half.x == 12 && down->shape.half.y == 6);
+    assert_true(leftw->one_way == NT_ONE_WAY_LEFT && leftw->position.x == 3 * 24 + 6 && leftw->position.y == 17 * 24 + 12);
+    assert_int_equal(lv->body_count, 4);
+    assert_int_equal(lv->region_count, 1);
+    assert_int_equal(nt_level_validate(lv, NULL), NT_OK);
     nt_level_destroy(lv);
 }
 
@@ -207,7 +267,7 @@ static void test_errors(void **state)
     snprintf(buf, sizeof buf, "$n#a##%s|0^1,2!0^x,2#", t);
     import_fails(buf, "t.n:1:729: object value 'x' is not a number");
     snprintf(buf, sizeof buf, "$n#a##%s|0^1,2!11^1,2#", t);
-    import_fails(buf, "t.n:1:727: object type 11 needs 4 values, got 2");
+    import_fails(buf, "t.n:1:727: object type 11 (exit door) needs 4 values, got 2");
     snprintf(buf, sizeof buf, "$n#a##%s|0-1,2#", t);
     import_fails(buf, "t.n:1:721: object '0-1,2' has no '^' (expected TYPE^X,Y,...)");
     snprintf(buf, sizeof buf, "$n#a##%s|q^1,2#", t);
@@ -267,6 +327,7 @@ int main(void)
         cmocka_unit_test(test_tiles_and_border),
         cmocka_unit_test(test_objects),
         cmocka_unit_test(test_huge_numbers),
+        cmocka_unit_test(test_object_names_and_doors),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_several_levels),
         cmocka_unit_test(test_out_of_memory),

@@ -26,8 +26,10 @@
 #include <string.h>
 #include <sys/types.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
+#include "../tools/ntile-play/canvas.h"
 #include "../tools/ntile-play/colors.h"
 #include "child.h"
 #include "scratch.h"
@@ -525,8 +527,11 @@ static void test_hud_and_palette(void **state)
     expect_pixel(&a, sx0 - 2, sy1 + c / 2, PG_COLOR_STRIP, "no selection around 45DEGpn before Tab");
     expect_pixel(&b, sx0 - 2, sy1 + c / 2, PG_COLOR_SELECT, "the selection around 45DEGpn after Tab");
     expect_pixel(&b, sx1 - 2, sy0 + c / 2, PG_COLOR_STRIP, "no selection around FULL after Tab");
-    /* HUD text in the top-left corner. */
-    assert_true(count_color(&a, 0, 0, 600, 40, PG_COLOR_TEXT) > 300);
+    /* The side panel on the left, beside the level and never over it: its text, its
+     * background down to the bottom, and the level's outer wall just right of it. */
+    assert_true(count_color(&a, 0, 0, PG_PANEL_W, 640, PG_COLOR_TEXT) > 1000);
+    expect_pixel(&a, 2, 630, PG_COLOR_PANEL_BG, "the panel's background");
+    assert_int_equal(count_color(&a, PG_PANEL_W, 0, x0, 640, PG_COLOR_TEXT), 0);
     free(a.px);
     free(b.px);
 }
@@ -742,8 +747,9 @@ static void test_throw_size_key(void **state)
     expect_status(&r, 0);
     expect_in(r.out, "thrown bodies: 0.6 cells across");
     run_free(&r);
-    /* A 4-cell ball thrown at world (10, 10) would reach outside the map: refused, said why. */
-    scratch_write_text("edge.script", "1 press L\n2 press L\n3 press L\n4 mouse down left 20 20\n4 mouse up left 20 20\n");
+    /* A 4-cell ball thrown at world (30, 30), in the room by the corner, would reach
+     * outside the map: refused, said why. */
+    scratch_write_text("edge.script", "1 press L\n2 press L\n3 press L\n4 mouse down left 60 60\n4 mouse up left 60 60\n");
     run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("edge.script"), "--frames", "6", LAB_VIEW, NULL});
     expect_status(&r, 0);
     expect_in(r.out, "cannot throw there: a body larger than half a cell must lie inside the map");
@@ -838,9 +844,11 @@ static void test_png_and_determinism(void **state)
     size_t png_size;
     free(scratch_read(png, &png_size));
     assert_true(png_size < (size_t)a.w * (size_t)a.h); /* compressed: under a byte per pixel */
-    /* The HUD's fps figure is wall-clock: compare everything below the HUD panel. */
-    for (int y = 80; y < a.h; y++)
+    /* The panel's fps and step time are wall-clock, alone on its bottom line: compare
+     * everything else. */
+    for (int y = 0; y < a.h; y++)
         for (int x = 0; x < a.w; x++) {
+            if (x < PG_PANEL_W && y >= a.h - PG_CHAR_H - 4) continue;
             if (pixel(&a, x, y) != pixel(&b, x, y)) fail_msg("PNG and BMP differ at (%d, %d)", x, y);
             if (pixel(&a, x, y) != pixel(&c, x, y)) fail_msg("two runs differ at (%d, %d)", x, y);
         }
@@ -908,8 +916,684 @@ static void test_dead_player_drawn(void **state)
     assert_int_equal(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER), 0);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_PLAYER_DEAD) > 20);
     assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_DEAD_MARK) > 5);
+    /* At rest: 80 ticks later the dead player covers the same pixels (the whole level
+     * is in view, the camera does not move). */
+    const char *later = scratch_path("dead-later.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/ninja-mine.ntr", "--frames", "200", "--screenshot", later, NULL});
+    image l = load_bmp(later);
+    for (int y = 0; y < d.h; y++)
+        for (int x = PG_PANEL_W; x < d.w - 80; x++)
+            if ((pixel(&d, x, y) == PG_COLOR_PLAYER_DEAD) != (pixel(&l, x, y) == PG_COLOR_PLAYER_DEAD))
+                fail_msg("the dead player moved between ticks 120 and 200 (pixel (%d, %d))", x, y);
+    free(l.px);
+    /* The DEAD banner, large, only once dead. */
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_BANNER_DEAD), 0);
+    assert_true(count_color(&d, 0, 0, d.w, d.h, PG_COLOR_BANNER_DEAD) > 500);
     free(a.px);
     free(d.px);
+}
+
+
+/* ---------- readable levels ---------- */
+
+/* Every kind of object in one small level, drawn at 1 pixel per unit with the camera
+ * at its centre (world (x, y) is pixel (x, y)). */
+static const char *objects_level(bool player_in_exit)
+{
+    const char *name = player_in_exit ? "objects-exit.ntl" : "objects.ntl";
+    char text[4096];
+    snprintf(text, sizeof text,
+             "ntile-level 1\nsize 20 10\ncell 24\nmaterial 1 0.05 0.9\ntiles\n"
+             "|####################|\n|#..................#|\n|#..................#|\n|#..................#|\n"
+             "|#..................#|\n|#..................#|\n|#..................#|\n|#.....#.#..#.......#|\n"
+             "|#..................#|\n|####################|\n"
+             "materials\n"
+             "|....................|\n|....................|\n|....................|\n|....................|\n"
+             "|....................|\n|....................|\n|....................|\n|......1.............|\n"
+             "|....................|\n|....................|\n"
+             "flags\n"
+             "|....................|\n|....................|\n|....................|\n|....................|\n"
+             "|....................|\n|....................|\n|....................|\n|...........-........|\n"
+             "|....................|\n|....................|\n"
+             "player %s\n"
+             "region door exit 420 168 444 216\n"
+             "region bin score 300 150 348 198 value 25\n"
+             "region pit kill 24 24 96 72\n"
+             "region area zone 120 24 200 80\n"
+             "path p pingpong speed 10 points 120 120 200 120\n"
+             "body g static circle 8 at 216 60 sensor score 1\n"
+             "body m static circle 6 at 264 60 sensor deadly\n"
+             "body plat kinematic box 12 4 at 120 120 path p\n"
+             "body ball dynamic circle 5 at 360 60 template\n"
+             "spawner sp ball every 1000 limit 1\n",
+             player_in_exit ? "432 200" : "48 200");
+    scratch_write_text(name, text);
+    return scratch_path(name);
+}
+
+static uint32_t mix(uint32_t a, uint32_t b, int alpha) /* render.c's pg_mix */
+{
+    uint32_t out = 0;
+    for (int s = 0; s <= 16; s += 8) {
+        int ca = (int)((a >> s) & 0xffu), cb = (int)((b >> s) & 0xffu);
+        out |= (uint32_t)(ca + ((cb - ca) * alpha) / 255) << s;
+    }
+    return out;
+}
+
+/* Each object kind in its own colour and shape where the level puts it. */
+static void test_object_kinds(void **state)
+{
+    (void)state;
+    const char *out = scratch_path("objects.bmp"), *out2 = scratch_path("objects-exit.bmp");
+    const char *view[] = {"--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120", "--frames", "1"};
+    play_ok((const char *[]){objects_level(false), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+                             view[9], "--screenshot", out, NULL});
+    play_ok((const char *[]){objects_level(true), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+                             view[9], "--screenshot", out2, NULL});
+    image a = load_bmp(out), b = load_bmp(out2);
+    /* Gold: a gold disc with a darker rim. */
+    expect_pixel(&a, 216, 60, PG_COLOR_GOLD, "the gold's centre");
+    assert_true(count_color(&a, 205, 49, 228, 72, PG_COLOR_GOLD_RIM) > 20);
+    /* The mine: a dark core, a red disc and red spikes beyond its radius (6). */
+    expect_pixel(&a, 264, 60, PG_COLOR_MINE_CORE, "the mine's core");
+    expect_pixel(&a, 268, 60, PG_COLOR_MINE, "the mine's disc");
+    expect_pixel(&a, 264 + 9, 60, PG_COLOR_MINE, "the mine's right spike");
+    expect_pixel(&a, 264, 60 - 9, PG_COLOR_MINE, "the mine's top spike");
+    expect_pixel(&a, 264 + 7, 60 + 3, PG_COLOR_BG, "between two spikes");
+    /* The exit: a closed door, open once the level is complete (the player starts in it). */
+    expect_pixel(&a, 422, 180, PG_COLOR_DOOR, "the closed door");
+    assert_int_equal(count_color(&a, 420, 168, 444, 216, PG_COLOR_DOOR_OPEN), 0);
+    assert_true(count_color(&b, 420, 168, 444, 216, PG_COLOR_DOOR_OPEN) > 200);
+    /* One-way cell (11, 7): its top in the one-way colour, an arrow up inside. */
+    assert_true(count_color(&a, 264, 168, 288, 170, PG_COLOR_ONEWAY) >= 40);
+    assert_true(count_color(&a, 270, 172, 282, 192, PG_COLOR_ONEWAY) >= 10);
+    assert_int_equal(count_color(&a, 192, 168, 216, 192, PG_COLOR_ONEWAY), 0); /* (8, 7): an ordinary FULL */
+    /* The material of cell (6, 7) tints it; (8, 7) has the plain fill. */
+    expect_pixel(&a, 8 * 24 + 12, 7 * 24 + 12, PG_COLOR_TILE, "a tile of material 0");
+    uint32_t tints[16] = PG_MATERIAL_TINTS;
+    expect_pixel(&a, 6 * 24 + 12, 7 * 24 + 12, mix(PG_COLOR_TILE, tints[1], 110), "a tile of material 1");
+    /* The bin: walls in its colour; the kill region hatched; the zone's dashed outline. */
+    assert_true(count_color(&a, 300, 150, 302, 198, PG_COLOR_BIN) >= 90);
+    assert_true(count_color(&a, 24, 24, 96, 72, PG_COLOR_KILL) > 200);
+    assert_true(count_color(&a, 120, 24, 200, 25, PG_COLOR_ZONE) > 30);
+    assert_true(count_color(&a, 120, 24, 200, 25, PG_COLOR_ZONE) < 70); /* dashed, not solid */
+    /* The platform on its dotted path; the spawner's mark above the template. */
+    expect_pixel(&a, 121, 120, PG_COLOR_PLATFORM, "the platform");
+    assert_true(count_color(&a, 140, 117, 200, 124, PG_COLOR_PATH) > 10);
+    assert_true(count_color(&a, 352, 48, 368, 60, PG_COLOR_SPAWNER) > 10);
+    /* No banner while playing; COMPLETE once in the exit. */
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_COLOR_BANNER_WIN), 0);
+    assert_true(count_color(&b, 0, 0, b.w, b.h, PG_COLOR_BANNER_WIN) > 300);
+    free(a.px);
+    free(b.px);
+}
+
+
+
+/* ---------- editing ---------- */
+
+/* Five edits of the lab through scripted input: a painted stroke, an erase
+ * (Shift+right), a rectangle (Ctrl+right-drag), a one-way flag and a material (the
+ * left button's tools, F6). */
+#define EDITS_SCRIPT                                                                                                          \
+    "1 mouse down right 264 264\n2 mouse move 312 264\n3 mouse move 360 264\n4 mouse up right 360 264\n"                     \
+    "5 down LShift\n6 mouse down right 24 264\n7 mouse up right 24 264\n8 up LShift\n"                                      \
+    "9 down LCtrl\n10 mouse down right 504 120\n11 mouse move 600 168\n12 mouse up right 600 168\n13 up LCtrl\n"            \
+    "14 press F6\n16 press F6\n18 press F6\n20 press F6\n22 press F6\n24 mouse down left 504 120\n24 mouse up left 504 120\n" \
+    "26 press F6\n28 mouse down left 552 120\n28 mouse up left 552 120\n"
+
+static char *save_after(const char *name, const char *script)
+{
+    char sname[64], lname[64];
+    snprintf(sname, sizeof sname, "%s.script", name);
+    snprintf(lname, sizeof lname, "%s.ntl", name);
+    scratch_write_text(sname, script);
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path(sname), "--frames", "60", LAB_VIEW, "--save",
+                             scratch_path(lname), NULL});
+    return scratch_read(scratch_path(lname), NULL);
+}
+
+/* Undo takes every edit back: the level saved after five edits and five Ctrl+Z is
+ * byte for byte the one saved without edits; five Ctrl+Y give the edited one again. */
+static void test_undo_redo_round_trip(void **state)
+{
+    (void)state;
+    char *orig = save_after("rt0", "55 press F2\n");
+    char *edited = save_after("rt1", EDITS_SCRIPT "55 press F2\n");
+    char *undone = save_after("rt2", EDITS_SCRIPT "30 down LCtrl\n31 press Z\n33 press Z\n35 press Z\n37 press Z\n39 press Z\n"
+                                                  "41 up LCtrl\n55 press F2\n");
+    char *redone = save_after("rt3", EDITS_SCRIPT "30 down LCtrl\n31 press Z\n33 press Z\n35 press Z\n37 press Z\n39 press Z\n"
+                                                  "41 press Y\n43 press Y\n45 press Y\n47 press Y\n49 press Y\n51 up LCtrl\n"
+                                                  "55 press F2\n");
+    if (strcmp(orig, edited) == 0) fail_msg("the edits changed nothing:\n%s", edited);
+    /* Each edit is in the saved text: the paint, the erased wall, the rectangle, the flag, the material. */
+    nt_level *lv = load_level(scratch_path("rt1.ntl"));
+    assert_int_equal(lv->tiles[5 * lv->width + 6], NT_TILE_FULL);
+    assert_int_equal(lv->tiles[5 * lv->width + 0], NT_TILE_EMPTY);
+    assert_int_equal(lv->tiles[3 * lv->width + 12], NT_TILE_FULL);
+    assert_int_equal(lv->cell_flags[2 * lv->width + 10], NT_CELL_ONE_WAY);
+    assert_int_equal(lv->cell_materials[2 * lv->width + 11], 1);
+    nt_level_destroy(lv);
+    if (strcmp(orig, undone) != 0) fail_msg("after undoing every edit the level differs:\n%s\nexpected:\n%s", undone, orig);
+    if (strcmp(edited, redone) != 0) fail_msg("after redoing every edit the level differs:\n%s\nexpected:\n%s", redone, edited);
+    free(orig);
+    free(edited);
+    free(undone);
+    free(redone);
+}
+
+/* A level switch or Esc with unsaved edits asks first (the question drawn over the
+ * view); N keeps the edits, Y goes on; without edits nothing is asked. */
+static void test_confirm_before_discard(void **state)
+{
+    (void)state;
+    const char *shot = scratch_path("confirm.bmp");
+    scratch_write_text("ask.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n");
+    scratch_write_text("no.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n6 press N\n");
+    scratch_write_text("yes.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press 2\n6 press Y\n");
+    scratch_write_text("esc.script", "1 mouse down right 264 264\n1 mouse up right 264 264\n3 press Escape\n");
+    scratch_write_text("esc-clean.script", "3 press Escape\n");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("ask.script"), "--frames", "8", LAB_VIEW,
+                                  "--screenshot", shot, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/lab.ntl (edited)  asking: discard the edits and switch level?");
+    run_free(&r);
+    image im = load_bmp(shot);
+    assert_true(count_color(&im, 0, 0, im.w, im.h, PG_COLOR_CONFIRM) > 500);
+    free(im.px);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("no.script"), "--frames", "8", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/lab.ntl (edited)");
+    if (strstr(r.out, "asking")) fail_msg("N should have closed the question:\n%s", r.out);
+    run_free(&r);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("yes.script"), "--frames", "8", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/ninja.ntl  ");
+    run_free(&r);
+    /* Esc: asked (the run goes on to frame 10), or quits at once without edits. */
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("esc.script"), "--frames", "10", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 10 ");
+    expect_in(r.out, "asking: discard the edits and quit?");
+    run_free(&r);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("esc-clean.script"), "--frames", "10", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    if (strstr(r.out, "tick 10 ") || strstr(r.out, "asking")) fail_msg("Esc without edits should quit at once:\n%s", r.out);
+    run_free(&r);
+}
+
+/* No tile over the player's spawn (a message says why); other cells paint; the
+ * eyedropper (Alt+right-click) picks a cell's tile for the next paint. */
+static void test_spawn_free_and_eyedropper(void **state)
+{
+    (void)state;
+    scratch_write_text("spawn.script", "1 mouse down right 132 204\n1 mouse up right 132 204\n"
+                                       "3 mouse down right 60 204\n3 mouse up right 60 204\n5 press F2\n");
+    const char *saved = scratch_path("spawn-saved.ntl");
+    run_result r;
+    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+                                  "--script", scratch_path("spawn.script"), "--frames", "8", "--save", saved, NULL});
+    expect_status(&r, 0);
+    run_free(&r);
+    scratch_write_text("spawn2.script", "1 mouse down right 60 204\n1 mouse up right 60 204\n");
+    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+                                  "--script", scratch_path("spawn2.script"), "--frames", "4", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "the player's spawn stays free: no tile over cell (2, 8)");
+    expect_in(r.out, "level"); /* not edited: nothing changed */
+    if (strstr(r.out, "(edited)")) fail_msg("a refused paint left the level edited:\n%s", r.out);
+    run_free(&r);
+    nt_level *lv = load_level(saved);
+    assert_int_equal(lv->tiles[8 * lv->width + 5], NT_TILE_FULL);  /* painted */
+    assert_int_equal(lv->tiles[8 * lv->width + 2], NT_TILE_EMPTY); /* the spawn's cell: refused */
+    nt_level_destroy(lv);
+    /* Tab selects the tile after FULL; Alt+right-click on a wall picks FULL again. */
+    scratch_write_text("pick.script", "1 press Tab\n3 down LAlt\n4 mouse down right 24 24\n4 mouse up right 24 24\n5 up LAlt\n"
+                                      "6 mouse down right 264 264\n6 mouse up right 264 264\n8 press F2\n"
+                                      "10 press Tab\n12 mouse down right 312 264\n12 mouse up right 312 264\n14 press F2\n");
+    saved = scratch_path("pick-saved.ntl");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("pick.script"), "--frames", "16", LAB_VIEW, "--save", saved, NULL});
+    lv = load_level(saved);
+    assert_int_equal(lv->tiles[5 * lv->width + 5], NT_TILE_FULL);     /* after the pick */
+    assert_int_equal(lv->tiles[5 * lv->width + 6], NT_TILE_FULL + 1); /* Tab without a pick: the next tile */
+    nt_level_destroy(lv);
+}
+
+/* The wheel zooms at the cursor (the wall corner under it stays put); a middle drag
+ * pans by the drag. The lab fits a 960 x 576 view at 2 pixels per unit. */
+static void test_zoom_at_cursor_and_pan(void **state)
+{
+    (void)state;
+    scratch_write_text("zoom.script", "1 mouse move 48 48\n2 wheel 1\n");
+    scratch_write_text("pan.script", "1 mouse move 48 48\n2 wheel 1\n4 mouse down middle 300 300\n5 mouse move 280 300\n"
+                                     "6 mouse up middle 280 300\n");
+    const char *a = scratch_path("zoom.bmp"), *b = scratch_path("pan.bmp");
+    play_ok((const char *[]){"levels/lab.ntl", "--no-hud", "--size", "960x576", "--zoom", "2", "--script", scratch_path("zoom.script"),
+                             "--frames", "8", "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--no-hud", "--size", "960x576", "--zoom", "2", "--script", scratch_path("pan.script"),
+                             "--frames", "8", "--screenshot", b, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b);
+    /* x2.5 about (48, 48), where the wall's inner corner (24, 24) is. */
+    expect_pixel(&ia, 46, 46, PG_COLOR_TILE, "the wall just above-left of the cursor");
+    expect_pixel(&ia, 50, 50, PG_COLOR_BG, "the room just below-right of the cursor");
+    expect_pixel(&ia, 100, 46, PG_COLOR_TILE, "the top wall, 52 pixels right of the cursor");
+    /* Dragged 20 pixels left: the corner at (28, 48). */
+    expect_pixel(&ib, 26, 46, PG_COLOR_TILE, "the wall, panned");
+    expect_pixel(&ib, 30, 50, PG_COLOR_BG, "the room, panned");
+    expect_pixel(&ib, 46, 50, PG_COLOR_BG, "where the corner was");
+    free(ia.px);
+    free(ib.px);
+}
+
+/* The gold tool (F6) places gold where clicked (the level restarts with it, F2 saves
+ * it); dragging it moves it; Ctrl+Z takes the placement back. */
+static void test_place_and_move_objects(void **state)
+{
+    (void)state;
+    scratch_write_text("place.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n5 press F2\n");
+    scratch_write_text("move.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n"
+                                      "5 mouse down left 264 168\n6 mouse move 360 168\n7 mouse up left 360 168\n");
+    scratch_write_text("unplace.script", "1 press F6\n3 mouse down left 264 168\n3 mouse up left 264 168\n"
+                                         "5 down LCtrl\n6 press Z\n8 up LCtrl\n");
+    const char *a = scratch_path("place.bmp"), *b = scratch_path("move.bmp"), *c = scratch_path("unplace.bmp");
+    const char *saved = scratch_path("placed.ntl");
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("place.script"), "--frames", "10", LAB_VIEW, "--save", saved,
+                             "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("move.script"), "--frames", "10", LAB_VIEW, "--screenshot", b, NULL});
+    play_ok((const char *[]){"levels/lab.ntl", "--script", scratch_path("unplace.script"), "--frames", "10", LAB_VIEW, "--screenshot", c, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b), ic = load_bmp(c);
+    /* Cell (5, 3): centre (132, 84) units, (264, 168) pixels. */
+    expect_pixel(&ia, 264, 168, PG_COLOR_GOLD, "the gold placed");
+    expect_pixel(&ib, 360, 168, PG_COLOR_GOLD, "the gold moved 48 units right");
+    expect_pixel(&ib, 264, 168, PG_COLOR_BG, "where the gold was");
+    expect_pixel(&ic, 264, 168, PG_COLOR_BG, "the placement undone");
+    free(ia.px);
+    free(ib.px);
+    free(ic.px);
+    nt_level *lv = load_level(saved);
+    int g = nt_level_find_body(lv, "gold1");
+    assert_true(g >= 0);
+    assert_int_equal(lv->bodies[g].score, 1);
+    assert_true(lv->bodies[g].position.x == 132 && lv->bodies[g].position.y == 84);
+    nt_level_destroy(lv);
+}
+
+
+/* ---------- the inspector ---------- */
+
+/* Scripted mouse: a left press on puck_a selects it (the inspector says what it is)
+ * and drags it on a spring toward the mouse, 56 units below (the lab has no gravity:
+ * alone it would stay at y = 144); a press inside the wall throws nothing. */
+static void test_select_and_drag_body(void **state)
+{
+    (void)state;
+    /* puck_a starts at (120, 144) at 120 units/s: (123, 144) after the first tick. */
+    scratch_write_text("joint.script", "1 mouse move 246 288\n2 mouse down left 246 288\n3 mouse move 246 400\n"
+                                       "14 mouse up left 246 400\n");
+    scratch_write_text("select.script", "1 mouse move 246 288\n2 mouse down left 246 288\n2 mouse up left 246 288\n"
+                                        "4 mouse down left 20 200\n4 mouse up left 20 200\n");
+    const char *shot = scratch_path("joint.bmp");
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("joint.script"), "--frames", "16", LAB_VIEW,
+                                  "--screenshot", shot, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "selected body 1.1 dynamic circle r 10 at (123.00, ");
+    const char *at = strstr(r.out, "selected body 1.1 dynamic circle r 10 at (123.00, ");
+    double y = atof(at + strlen("selected body 1.1 dynamic circle r 10 at (123.00, "));
+    if (!(y > 185 && y < 215)) fail_msg("the dragged puck is at y = %g, expected near the mouse (200):\n%s", y, r.out);
+    run_free(&r);
+    /* The selection ring around the puck. */
+    image im = load_bmp(shot);
+    assert_true(count_color(&im, LAB_PX(123) - 30, LAB_PX(y) - 30, LAB_PX(123) + 30, LAB_PX(y) + 30, PG_COLOR_SELECT) > 60);
+    free(im.px);
+    /* A click selects without dragging: puck_a goes on at 120 units/s; the wall throws nothing. */
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("select.script"), "--frames", "10", LAB_VIEW, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "bodies 2 ");
+    expect_in(r.out, "selected body 1.1 dynamic circle r 10 at (150.00, 144.00) vel (120.00, 0.00) contacts 0 bodies, 0 tiles awake");
+    expect_in(r.out, "cannot throw from inside a solid tile");
+    run_free(&r);
+}
+
+
+/* ---------- replays in the window ---------- */
+
+/* Stepping back (the comma key, paused) plays the replay again from the start: five
+ * steps back from tick 29 give exactly the frame of a fresh run to tick 24. A click on
+ * the timeline goes to the tick under it. */
+static void test_replay_step_back(void **state)
+{
+    (void)state;
+    scratch_write_text("back.script", "30 press P\n32 press ,\n34 press ,\n36 press ,\n38 press ,\n40 press ,\n");
+    const char *a = scratch_path("back.bmp"), *b = scratch_path("fresh24.bmp");
+    run_result r;
+    run_play(&r, (const char *[]){"--replay", "tests/replays/ninja.ntr", "--no-hud", "--script", scratch_path("back.script"),
+                                  "--frames", "45", "--screenshot", a, NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 24 ");
+    run_free(&r);
+    play_ok((const char *[]){"--replay", "tests/replays/ninja.ntr", "--no-hud", "--frames", "24", "--screenshot", b, NULL});
+    image ia = load_bmp(a), ib = load_bmp(b);
+    for (int y = 0; y < ia.h; y++)
+        for (int x = 0; x < ia.w; x++)
+            if (pixel(&ia, x, y) != pixel(&ib, x, y)) fail_msg("stepped back to tick 24 and a fresh run differ at (%d, %d)", x, y);
+    free(ia.px);
+    free(ib.px);
+    /* The timeline (1024 x 640 window): from x = 240 to 948 at the bottom; its middle is tick 310 of 620. */
+    scratch_write_text("scrub.script", "30 press P\n32 mouse down left 594 627\n32 mouse up left 594 627\n");
+    run_play(&r, (const char *[]){"tests/replays/ninja.ntr", "--script", scratch_path("scrub.script"), "--frames", "34", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "tick 310 ");
+    expect_in(r.out, "replay tests/replays/ninja.ntr tick 310 of 620");
+    run_free(&r);
+}
+
+/* After the replay's last tick the keyboard has the game, and the playground says so;
+ * a replay dropped on the window plays on its level; F7 goes to the first tick whose
+ * state differs from a replay's recorded hashes (here: one input changed). */
+static void test_replay_over_drop_and_divergence(void **state)
+{
+    (void)state;
+    run_result r;
+    run_play(&r, (const char *[]){"tests/replays/ninja-mine.ntr", "--frames", "205", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "replay tests/replays/ninja-mine.ntr over (200 ticks): you have control");
+    run_free(&r);
+    scratch_write_text("drop.script", "2 drop tests/replays/ninja-mine.ntr\n");
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--script", scratch_path("drop.script"), "--frames", "10", NULL});
+    expect_status(&r, 0);
+    expect_in(r.out, "level levels/ninja.ntl");
+    expect_in(r.out, "replay tests/replays/ninja-mine.ntr tick ");
+    run_free(&r);
+    /* ninja.ntr with the first run shortened by one tick (300R -> 299R 1.). */
+    char *text = scratch_read("tests/replays/ninja.ntr", NULL);
+    char *at = strstr(text, "input 300R ");
+    assert_non_null(at);
+    char *changed = malloc(strlen(text) + 16);
+    assert_non_null(changed);
+    size_t head = (size_t)(at - text);
+    memcpy(changed, text, head);
+    strcpy(changed + head, "input 299R 1. ");
+    strcat(changed, at + strlen("input 300R "));
+    char cwd[4096];
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    char *lv = strstr(changed, "level ../../levels/ninja.ntl");
+    assert_non_null(lv);
+    char *fixed = malloc(strlen(changed) + strlen(cwd) + 64);
+    assert_non_null(fixed);
+    memcpy(fixed, changed, (size_t)(lv - changed));
+    sprintf(fixed + (lv - changed), "level \"%s/levels/ninja.ntl\"%s", cwd, lv + strlen("level ../../levels/ninja.ntl"));
+    scratch_write_text("diverge.ntr", fixed);
+    /* Where nt_run_replay says it diverges. */
+    nt_replay *rp;
+    nt_text_error e;
+    if (nt_replay_parse("diverge.ntr", fixed, strlen(fixed), &rp, &e) != NT_OK) fail_msg("%s", e.message);
+    nt_level *level = load_level("levels/ninja.ntl");
+    nt_run_report rep;
+    assert_int_equal(nt_run_replay(rp, level, &rep), NT_OK);
+    int want = rep.first_divergence;
+    nt_run_report_free(&rep);
+    nt_replay_destroy(rp);
+    nt_level_destroy(level);
+    assert_true(want > 0);
+    scratch_write_text("f7.script", "2 press F7\n");
+    run_play(&r, (const char *[]){scratch_path("diverge.ntr"), "--script", scratch_path("f7.script"), "--frames", "4", NULL});
+    expect_status(&r, 0);
+    char expect[64];
+    snprintf(expect, sizeof expect, "tick %d ", want);
+    expect_in(r.out, expect);
+    run_free(&r);
+    free(text);
+    free(changed);
+    free(fixed);
+}
+
+
+/* ---------- text ---------- */
+
+/* The font has descenders, at 1x and at 2x (windows 1600 pixels wide and more): the
+ * panel's first line is the level's title, "Ninja", at (4, 4), in the selection
+ * colour; the j's hook goes two font rows below the baseline (rows 7 and 8, under
+ * row 6), the N's does not. */
+static void test_font_descenders(void **state)
+{
+    (void)state;
+    const char *a = scratch_path("font1.bmp"), *b = scratch_path("font2.bmp");
+    play_ok((const char *[]){"levels/ninja.ntl", "--frames", "1", "--screenshot", a, NULL});
+    play_ok((const char *[]){"levels/ninja.ntl", "--size", "1700x1000", "--frames", "1", "--screenshot", b, NULL});
+    image i1 = load_bmp(a), i2 = load_bmp(b);
+    for (int s = 1; s <= 2; s++) {
+        const image *im = s == 1 ? &i1 : &i2;
+        int jx = 4 + 3 * PG_CHAR_W * s, base = 4 + 7 * s; /* j: the fourth letter; the first row under the baseline */
+        /* Row 7 of 'j': columns 0 and 3; row 8: columns 1 and 2. */
+        expect_pixel(im, jx, base, PG_COLOR_SELECT, "the j's hook, one row under the baseline");
+        expect_pixel(im, jx + 3 * s, base, PG_COLOR_SELECT, "the j's stem, one row under the baseline");
+        expect_pixel(im, jx + s, base + s, PG_COLOR_SELECT, "the j's hook, two rows under the baseline");
+        assert_int_equal(count_color(im, jx, base + 2 * s, jx + 5 * s, base + 4 * s, PG_COLOR_SELECT), 0); /* nine rows, no more */
+        assert_int_equal(count_color(im, 4, base, 4 + 5 * s, base + 2 * s, PG_COLOR_SELECT), 0);        /* N: none */
+        assert_true(count_color(im, 4, 4, 4 + 5 * s, base, PG_COLOR_SELECT) >= 13 * s * s);             /* N above it */
+    }
+    free(i1.px);
+    free(i2.px);
+}
+
+
+/* Circles: the outline (the bodies gizmo) is the edge of the filled disc, so no fill
+ * pixel touches the background around a puck, and the ring is closed and smooth. */
+static void test_circle_outline(void **state)
+{
+    (void)state;
+    const char *out = scratch_path("circle.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "40", LAB_VIEW, "--gizmos", "bodies", "--screenshot", out, NULL});
+    image im = load_bmp(out);
+    nt_vec2 pa = body_after("levels/lab.ntl", "puck_a", 40);
+    int cx = LAB_PX(pa.x), cy = LAB_PX(pa.y), fill = 0, poke = 0;
+    uint32_t f = PG_BODY_FILL(PG_ENGINE_AWAKE);
+    for (int y = cy - 26; y <= cy + 26; y++)
+        for (int x = cx - 26; x <= cx + 26; x++) {
+            if (pixel(&im, x, y) != f) continue;
+            fill++;
+            if (pixel(&im, x + 1, y) == PG_COLOR_BG || pixel(&im, x - 1, y) == PG_COLOR_BG || pixel(&im, x, y + 1) == PG_COLOR_BG ||
+                pixel(&im, x, y - 1) == PG_COLOR_BG)
+                poke++;
+        }
+    assert_true(fill > 900); /* radius 20 pixels: about 1250 inside the ring */
+    if (poke) fail_msg("%d fill pixels of the puck touch the background outside its outline", poke);
+    /* The ring: one pixel wide, about 2 pi r of them. */
+    int ring = count_color(&im, cx - 22, cy - 22, cx + 23, cy + 23, PG_ENGINE_AWAKE);
+    assert_true(ring > 100 && ring < 200);
+    free(im.px);
+}
+
+
+/* The panel's gizmo checkboxes are clickable: a click on "V velocities" (the fifth box
+ * under the fourth heading, "Gizmos") turns the velocity arrows on. */
+static void test_panel_checkbox_click(void **state)
+{
+    (void)state;
+    const char *before = scratch_path("panel0.bmp"), *after = scratch_path("panel1.bmp");
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "20", "--screenshot", before, NULL});
+    image a = load_bmp(before);
+    /* The headings' bands down the panel's left edge. */
+    int y = 0, found = 0, top = -1, bottom = -1;
+    while (y < a.h && found < 4) {
+        if (pixel(&a, 1, y) == PG_COLOR_HEADING) {
+            top = y;
+            while (y < a.h && pixel(&a, 1, y) == PG_COLOR_HEADING) y++;
+            bottom = y;
+            found++;
+        } else {
+            y++;
+        }
+    }
+    if (found < 4) fail_msg("found %d headings in the panel, expected at least 4", found);
+    assert_int_equal(bottom - top, PG_CHAR_H);
+    assert_int_equal(count_color(&a, 0, 0, a.w, a.h, PG_ENGINE_VELOCITY), 0);
+    /* Checkbox rows follow the heading 2 pixels down, one text line each. */
+    int cy = bottom + 2 + 4 * PG_CHAR_H + 3;
+    char script[128];
+    snprintf(script, sizeof script, "2 mouse down left 10 %d\n2 mouse up left 10 %d\n", cy, cy);
+    scratch_write_text("panel.script", script);
+    play_ok((const char *[]){"--replay", "tests/replays/lab.ntr", "--frames", "20", "--script", scratch_path("panel.script"),
+                             "--screenshot", after, NULL});
+    image b = load_bmp(after);
+    assert_true(count_color(&b, PG_PANEL_W, 0, b.w, b.h, PG_ENGINE_VELOCITY) > 20); /* arrows on the pucks */
+    assert_true(count_color(&b, 4, cy - 4, 4 + 7, cy + 4, PG_COLOR_SELECT) > 4);    /* the box ticked */
+    assert_int_equal(count_color(&a, 4, cy - 4, 4 + 7, cy + 4, PG_COLOR_SELECT), 0);
+    free(a.px);
+    free(b.px);
+}
+
+
+/* F3 moves the panel to the right of the view, then hides it (the view grows), then
+ * brings it back on the left. */
+static void test_panel_moves_and_hides(void **state)
+{
+    (void)state;
+    const char *shots[3] = {scratch_path("f3-1.bmp"), scratch_path("f3-2.bmp"), scratch_path("f3-3.bmp")};
+    const char *scripts[3] = {"1 press F3\n", "1 press F3\n3 press F3\n", "1 press F3\n3 press F3\n5 press F3\n"};
+    int g = 4, c = (640 - 24 - g * 18) / 17;
+    if (c > 28) c = 28;
+    int x0 = 1024 - (2 * c + 3 * g); /* the strip's left edge */
+    for (int i = 0; i < 3; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "f3-%d.script", i + 1);
+        scratch_write_text(name, scripts[i]);
+        play_ok((const char *[]){"levels/ninja.ntl", "--script", scratch_path(name), "--frames", "8", "--screenshot", shots[i], NULL});
+    }
+    image r = load_bmp(shots[0]), h = load_bmp(shots[1]), l = load_bmp(shots[2]);
+    expect_pixel(&r, x0 - PG_PANEL_W + 2, 630, PG_COLOR_PANEL_BG, "the panel on the right");
+    assert_int_equal(count_color(&r, 0, 0, x0 - PG_PANEL_W, 640, PG_COLOR_PANEL_BG), 0);
+    assert_int_equal(count_color(&h, 0, 0, h.w, h.h, PG_COLOR_PANEL_BG), 0); /* hidden */
+    assert_true(count_color(&h, 0, 0, x0, 640, PG_COLOR_TILE) > count_color(&r, 0, 0, x0, 640, PG_COLOR_TILE)); /* a larger level */
+    expect_pixel(&l, 2, 630, PG_COLOR_PANEL_BG, "the panel back on the left");
+    free(r.px);
+    free(h.px);
+    free(l.px);
+}
+
+/* ---------- CPU use when paused, in a real window under Xvfb ---------- */
+
+/* utime + stime (clock ticks) of the first process called `comm` below `root`, or -1. */
+static void sleep_ms(long ms)
+{
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    }
+}
+
+static long cpu_ticks_below(pid_t root, const char *comm, pid_t *found)
+{
+    DIR *d = opendir("/proc");
+    if (!d) return -1;
+    struct dirent *e;
+    long ticks = -1;
+    while (ticks < 0 && (e = readdir(d))) {
+        char path[300], buf[1024];
+        if (e->d_name[0] < '0' || e->d_name[0] > '9') continue;
+        snprintf(path, sizeof path, "/proc/%s/stat", e->d_name);
+        FILE *f = fopen(path, "r");
+        if (!f) continue;
+        size_t n = fread(buf, 1, sizeof buf - 1, f);
+        fclose(f);
+        buf[n] = '\0';
+        char *open = strchr(buf, '('), *close = strrchr(buf, ')');
+        if (!open || !close || (size_t)(close - open - 1) != strlen(comm) || strncmp(open + 1, comm, strlen(comm)) != 0) continue;
+        /* Fields after the name: state ppid ... utime (14th field) stime (15th). */
+        long pid = atol(buf);
+        char state;
+        long ppid;
+        unsigned long ut, st;
+        if (sscanf(close + 2, "%c %ld %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu", &state, &ppid, &ut, &st) != 4) continue;
+        /* A descendant of root? */
+        long up = ppid;
+        for (int hops = 0; hops < 8 && up > 1 && up != (long)root; hops++) {
+            char pp[64], b2[1024];
+            snprintf(pp, sizeof pp, "/proc/%ld/stat", up);
+            FILE *g = fopen(pp, "r");
+            if (!g) break;
+            size_t m = fread(b2, 1, sizeof b2 - 1, g);
+            fclose(g);
+            b2[m] = '\0';
+            char *c2 = strrchr(b2, ')');
+            long next;
+            if (!c2 || sscanf(c2 + 2, "%*c %ld", &next) != 1) break;
+            up = next;
+        }
+        if (up != (long)root) continue;
+        ticks = (long)(ut + st);
+        *found = (pid_t)pid;
+    }
+    closedir(d);
+    return ticks;
+}
+
+/* CPU seconds the playground uses from 1.5 s to 6.5 s after its start, in an X11
+ * window under xvfb-run (with `script`, or none). */
+static double cpu_share_under_xvfb(const char *script)
+{
+    const char *exe = play_exe();
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0) {
+        int nul = open("/dev/null", O_RDWR);
+        if (nul >= 0) dup2(nul, 1), dup2(nul, 2);
+        unsetenv("SDL_VIDEODRIVER");
+        /* In a sanitizer build: memory errors still fail (exit code 99), but leaks are
+         * not checked in this run: the system libraries SDL's X11 driver loads (D-Bus
+         * among them) keep allocations at exit. The dummy-driver runs of the other
+         * tests keep the leak check. */
+        setenv("ASAN_OPTIONS", "detect_leaks=0:exitcode=99", 1);
+        setenv("UBSAN_OPTIONS", "exitcode=99:print_stacktrace=1", 0);
+        if (script)
+            execlp("xvfb-run", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24", exe, "levels/ninja.ntl", "--seconds", "8",
+                   "--script", script, (char *)NULL);
+        else
+            execlp("xvfb-run", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24", exe, "levels/ninja.ntl", "--seconds", "8",
+                   (char *)NULL);
+        _exit(127);
+    }
+    pid_t play = 0;
+    long t0 = -1;
+    for (int i = 0; i < 150 && t0 < 0; i++) { /* wait for the playground to start (up to 3 s) */
+        sleep_ms(20);
+        t0 = cpu_ticks_below(child, "ntile-play", &play);
+    }
+    if (t0 < 0) fail_msg("ntile-play did not start under xvfb-run");
+    sleep_ms(1500);
+    t0 = cpu_ticks_below(child, "ntile-play", &play);
+    sleep_ms(5000);
+    long t1 = cpu_ticks_below(child, "ntile-play", &play);
+    int status;
+    waitpid(child, &status, 0);
+    if (t0 < 0 || t1 < 0) fail_msg("ntile-play ended before the measurement did");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) fail_msg("xvfb-run ntile-play: status %d", status);
+    return (double)(t1 - t0) / (double)sysconf(_SC_CLK_TCK) / 5.0;
+}
+
+/* Paused, the playground sleeps until an event: below 2 % of a core over 5 s; playing,
+ * it draws about 60 frames a second (well above that: the measurement can tell). */
+static void test_paused_cpu(void **state)
+{
+    (void)state;
+    play_exe();
+    if (system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        print_message("skipped: xvfb-run is not installed (Debian's xvfb)\n");
+        skip();
+    }
+    const char *pre = getenv("LD_PRELOAD");
+    if (pre && strstr(pre, "vgpreload")) {
+        print_message("skipped: CPU use is not measured under valgrind\n");
+        skip();
+    }
+    scratch_write_text("pause.script", "1 press P\n");
+    double paused = cpu_share_under_xvfb(scratch_path("pause.script"));
+    double playing = cpu_share_under_xvfb(NULL);
+    print_message("CPU use under Xvfb: paused %.2f %% of a core, playing %.1f %%\n", 100 * paused, 100 * playing);
+    if (paused >= 0.02) fail_msg("paused, the playground used %.2f %% of a core (expected below 2 %%)", 100 * paused);
+    if (playing < 0.03) fail_msg("playing, the playground used only %.2f %% of a core: is it drawing?", 100 * playing);
 }
 
 /* Bad input: clear messages, non-zero exit, no crash. */
@@ -977,7 +1661,14 @@ int main(void)
         cmocka_unit_test(test_throw_size_key),     cmocka_unit_test(test_large_throw_and_paint),
         cmocka_unit_test(test_friction_model_switch), cmocka_unit_test(test_png_and_determinism),
         cmocka_unit_test(test_offscreen_driver),   cmocka_unit_test(test_image_stats),
-        cmocka_unit_test(test_dead_player_drawn),
+        cmocka_unit_test(test_dead_player_drawn),  cmocka_unit_test(test_object_kinds),
+        cmocka_unit_test(test_paused_cpu),         cmocka_unit_test(test_undo_redo_round_trip),
+        cmocka_unit_test(test_confirm_before_discard), cmocka_unit_test(test_spawn_free_and_eyedropper),
+        cmocka_unit_test(test_zoom_at_cursor_and_pan), cmocka_unit_test(test_place_and_move_objects),
+        cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
+        cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
+        cmocka_unit_test(test_circle_outline),      cmocka_unit_test(test_panel_checkbox_click),
+        cmocka_unit_test(test_panel_moves_and_hides),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

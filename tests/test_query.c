@@ -362,6 +362,199 @@ static void test_no_negative_zero(void **state)
     run_free(&r);
 }
 
+/* ---------- shortest numbers, line numbers, tile names ---------- */
+
+/* A printed number's significant digits ("-0.0350" -> 3, "100" -> 1, "1.5e-07" -> 2). */
+static int significant_digits(const char *tok)
+{
+    int n = 0, trailing_zeros = 0, started = 0;
+    for (const char *p = tok; *p && *p != 'e' && *p != 'E'; p++) {
+        if (*p < '0' || *p > '9') continue;
+        if (*p == '0' && !started) continue;
+        started = 1;
+        n++;
+        trailing_zeros = *p == '0' ? trailing_zeros + 1 : 0;
+    }
+    return n - trailing_zeros;
+}
+
+/* tok reads back as exactly v (as nt_real), and no decimal with fewer significant
+ * digits does. */
+static void expect_shortest(const char *tok, nt_real v)
+{
+    if (v == 0) v = 0;
+#if NT_REAL_IS_DOUBLE
+    nt_real back = strtod(tok, NULL);
+#else
+    nt_real back = strtof(tok, NULL);
+#endif
+    if (memcmp(&back, &v, sizeof v) != 0) fail_msg("'%s' does not read back as %.17g", tok, (double)v);
+    int digits = significant_digits(tok);
+    if (digits >= 2) {
+        char shorter[64];
+        snprintf(shorter, sizeof shorter, "%.*e", digits - 2, (double)v);
+#if NT_REAL_IS_DOUBLE
+        nt_real b2 = strtod(shorter, NULL);
+#else
+        nt_real b2 = strtof(shorter, NULL);
+#endif
+        if (memcmp(&b2, &v, sizeof v) == 0) fail_msg("'%s' is not the shortest form: '%s' reads back the same", tok, shorter);
+    }
+    if (strchr(tok, 'e') && fabs((double)v) >= 1e-5 && fabs((double)v) < 1e16)
+        fail_msg("'%s' has an exponent although it is between 1e-5 and 1e16", tok);
+}
+
+static void test_shortest_numbers(void **state)
+{
+    (void)state;
+    /* The README's example: -0.35, not -0.349999994. */
+    run_result r;
+    run_query_text(&r, "tile FULL aabb 0.5 0.1 0.25 0.25\n");
+    assert_int_equal(r.nlines, 1);
+    assert_string_equal(r.lines[0], "0 -0.35");
+    run_free(&r);
+    /* Random tile and pair queries: every number the shortest that reads back as the
+     * engine's own answer. */
+    enum { N = 400 };
+    static char text[N * 96];
+    static nt_real want[N][2];
+    size_t o = 0;
+    uint64_t seed = 12345;
+    for (int i = 0; i < N; i++) {
+        double v[5];
+        for (int k = 0; k < 5; k++) {
+            seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+            v[k] = (double)(seed >> 11) * 0x1.0p-53;
+        }
+        char line[96];
+        int tile = 1 + i % (NT_TILE_COUNT - 1);
+        nt_mtv m;
+        bool hit;
+        if (i % 2) {
+            snprintf(line, sizeof line, "tile %s circle %.6f %.6f %.6f\n", nt_tile_get_info(tile)->name, v[0] * 1.4 - 0.2,
+                     v[1] * 1.4 - 0.2, v[2] * 0.5 + 0.01);
+        } else {
+            snprintf(line, sizeof line, "pair aabb 0 0 %.6f %.6f circle %.6f %.6f %.6f\n", v[0] + 0.1, v[1] + 0.1,
+                     v[2] - 0.5, v[3] - 0.5, v[4] + 0.1);
+        }
+        /* The same arithmetic as the CLI, from the same text. */
+        char copy[96], *f[10];
+        int nf = 0;
+        snprintf(copy, sizeof copy, "%s", line);
+        for (char *t = strtok(copy, " \n"); t && nf < 10; t = strtok(NULL, " \n")) f[nf++] = t;
+        if (i % 2) {
+            hit = nt_collide_tile_shape(tile, nt_v2((nt_real)strtod(f[3], NULL), (nt_real)strtod(f[4], NULL)),
+                                        nt_shape_circle((nt_real)strtod(f[5], NULL)), &m);
+        } else {
+            hit = nt_collide_shapes(nt_v2(0, 0), nt_shape_aabb((nt_real)strtod(f[4], NULL), (nt_real)strtod(f[5], NULL)),
+                                    nt_v2((nt_real)strtod(f[7], NULL), (nt_real)strtod(f[8], NULL)),
+                                    nt_shape_circle((nt_real)strtod(f[9], NULL)), &m);
+        }
+        want[i][0] = hit ? m.normal.x * m.depth : 0;
+        want[i][1] = hit ? m.normal.y * m.depth : 0;
+        memcpy(text + o, line, strlen(line));
+        o += strlen(line);
+    }
+    text[o] = '\0';
+    run_query_text(&r, text);
+    assert_int_equal(r.status, 0);
+    assert_int_equal(r.nlines, N);
+    int hits = 0;
+    for (int i = 0; i < N; i++) {
+        char copy[128];
+        snprintf(copy, sizeof copy, "%s", r.lines[i]);
+        char *a = strtok(copy, " "), *b = strtok(NULL, " ");
+        if (!a || !b || strtok(NULL, " ")) fail_msg("line %d: expected 'DX DY', got '%s'", i + 1, r.lines[i]);
+        expect_shortest(a, want[i][0]);
+        expect_shortest(b, want[i][1]);
+        hits += want[i][0] != 0 || want[i][1] != 0;
+    }
+    assert_true(hits > N / 4); /* the sample really exercises the formatter */
+    run_free(&r);
+}
+
+static void test_line_numbers(void **state)
+{
+    (void)state;
+    const char *in = write_text("# a comment\n\ntile FULL aabb 0.5 0.1 0.25 0.25\nbogus\nmap 1 3 empty,full,empty\n"
+                                "ray 0.5 0.5 0.5 2.5\nray 0.5 0.2 0.5 0.8\n");
+    const char *forms[][3] = {{"query", "-n", NULL}, {"query", "--line-numbers", NULL}};
+    for (size_t i = 0; i < 2; i++) {
+        run_result r;
+        const char *args[] = {forms[i][0], forms[i][1], in, NULL};
+        run_cli(&r, NULL, args);
+        assert_int_equal(r.status, 1);
+        assert_int_equal(r.nlines, 5);
+        assert_string_equal(r.lines[0], "3: 0 -0.35");
+        if (strncmp(r.lines[1], "4: error: line 4: unknown command 'bogus'", 41) != 0) fail_msg("got '%s'", r.lines[1]);
+        assert_string_equal(r.lines[2], "5: ok");
+        assert_string_equal(r.lines[3], "6: hit 0.25 0 -1");
+        assert_string_equal(r.lines[4], "7: miss");
+        run_free(&r);
+    }
+}
+
+static void test_tile_names(void **state)
+{
+    (void)state;
+    run_result r;
+    /* Any case is the same tile; a near miss gets a hint, a far one the list. */
+    run_query_text(&r, "tile full aabb 0.5 0.1 0.25 0.25\ntile FuLl aabb 0.5 0.1 0.25 0.25\n"
+                       "tile 45degPN aabb 0.2 0.2 0.1 0.1\ntile 45DEGpn aabb 0.2 0.2 0.1 0.1\n"
+                       "tile FUL aabb 0 0 1 1\ntile 45DGEpn aabb 0 0 1 1\ntile halfy aabb 0 0 1 1\n"
+                       "tile wobble aabb 0 0 1 1\nmap 2 1 Full,EMTPY\nmap 2 1 full,empty\n");
+    assert_int_equal(r.status, 1);
+    assert_int_equal(r.nlines, 10);
+    assert_string_equal(r.lines[0], "0 -0.35");
+    assert_string_equal(r.lines[1], "0 -0.35");
+    assert_string_equal(r.lines[2], r.lines[3]);
+    expect_error(r.lines[4], 5, "unknown tile name 'FUL' (did you mean 'FULL'?)");
+    expect_error(r.lines[5], 6, "(did you mean '45DEGpn'?)");
+    expect_error(r.lines[6], 7, "unknown tile name 'halfy' (expected an N tile name");
+    expect_error(r.lines[7], 8, "unknown tile name 'wobble' (expected an N tile name");
+    expect_error(r.lines[8], 9, "unknown tile name 'EMTPY' (map tile 2) (did you mean 'EMPTY'?)");
+    assert_string_equal(r.lines[9], "ok");
+    run_free(&r);
+}
+
+/* Every subcommand and sub-subcommand answers --help (and -h) with its usage on
+ * standard output and status 0; no subcommand at all is a usage error. */
+static void test_help_everywhere(void **state)
+{
+    (void)state;
+    static const char *const cmds[][4] = {
+        {"query", NULL},           {"run", NULL},           {"sheet", NULL},         {"soak", NULL},
+        {"bench", NULL},           {"bench", "world", NULL}, {"bench", "narrow", NULL}, {"bench", "scaling", NULL},
+        {"bench", "character", NULL}, {"bench", "sweep", NULL}, {"bench", "plot", NULL}, {"convert", NULL},
+        {"convert", "n14", NULL},  {"convert", "tiled", NULL},
+    };
+    static const char *const flags[] = {"--help", "-h"};
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        for (size_t k = 0; k < 2; k++) {
+            const char *args[6];
+            int n = 0;
+            for (int j = 0; cmds[i][j]; j++) args[n++] = cmds[i][j];
+            args[n++] = flags[k];
+            args[n] = NULL;
+            run_result r;
+            run_cli(&r, NULL, args);
+            if (r.status != 0) fail_msg("ntile %s %s %s: status %d\n%s", cmds[i][0], cmds[i][1] ? cmds[i][1] : "", flags[k], r.status, r.err);
+            char want[64];
+            snprintf(want, sizeof want, "ntile %s", cmds[i][0]);
+            if (!strstr(r.out, "usage") || !strstr(r.out, want))
+                fail_msg("ntile %s %s %s: no usage on stdout: '%s'", cmds[i][0], cmds[i][1] ? cmds[i][1] : "", flags[k], r.out);
+            run_free(&r);
+        }
+    }
+    const char *none[] = {NULL};
+    run_result r;
+    run_cli(&r, NULL, none);
+    assert_int_equal(r.status, 2);
+    assert_int_equal(r.out_len, 0);
+    if (!strstr(r.err, "usage: ntile SUBCOMMAND") || !strstr(r.err, "ntile query")) fail_msg("no usage on stderr: '%s'", r.err);
+    run_free(&r);
+}
+
 /* ---------- errors ---------- */
 
 static void test_error_lines(void **state)
@@ -541,8 +734,8 @@ static void test_usage_errors(void **state)
     assert_non_null(strstr(r.err, "narrow"));
     run_free(&r);
 
-    /* Help: usage on stdout, status 0, with or without the word. */
-    const char *helps[][2] = {{"--help", NULL}, {"help", NULL}, {"-h", NULL}, {NULL, NULL}};
+    /* Help: usage on stdout, status 0. */
+    const char *helps[][2] = {{"--help", NULL}, {"help", NULL}, {"-h", NULL}};
     for (size_t i = 0; i < sizeof helps / sizeof helps[0]; i++) {
         run_cli(&r, NULL, helps[i]);
         assert_int_equal(r.status, 0);
@@ -845,6 +1038,46 @@ static void test_bench_narrow(void **state)
     run_free(&r);
 }
 
+/* `bench world` on two quick scenes: a progress line per scene on stderr, the narrow
+ * table with a PASS/FAIL per check, the phase rows only with --profile, every error
+ * column with --wide. */
+static void test_bench_world_table(void **state)
+{
+    (void)state;
+    const char *a1[] = {"bench", "world", "bounce", "flight", "--runs", "1", "--min-ms", "0", NULL};
+    run_result r;
+    run_cli(&r, NULL, a1);
+    assert_int_equal(r.status, 0);
+    if (!strstr(r.err, "ntile bench world: [1/2] bounce ...\n") || !strstr(r.err, "ntile bench world: [2/2] flight ...\n"))
+        fail_msg("no progress lines on stderr: '%s'", r.err);
+    int header = 0, apex = 0, path = 0;
+    for (size_t i = 0; i < r.nlines; i++) {
+        const char *l = r.lines[i];
+        if (strlen(l) > 100) fail_msg("line wider than 100 columns: '%s'", l);
+        if (strstr(l, "phases, ns/body-step")) fail_msg("phase rows without --profile: '%s'", l);
+        header |= strncmp(l, "scene ", 6) == 0 && strstr(l, "check") && strstr(l, "result") != NULL;
+        if (strstr(l, "apex error")) {
+            apex = 1;
+            if (!strstr(l, "<= 0.05") || (!strstr(l, "PASS") && !strstr(l, "FAIL"))) fail_msg("apex row: '%s'", l);
+        }
+        if (strstr(l, "path error")) {
+            path = 1;
+            if (!strstr(l, "<= 0.0001") || (!strstr(l, "PASS") && !strstr(l, "FAIL"))) fail_msg("path row: '%s'", l);
+        }
+    }
+    if (!header || !apex || !path) fail_msg("missing header (%d), apex (%d) or path (%d) row in:\n%s", header, apex, path, r.out);
+    if (!strstr(r.out, "bounce ") || !strstr(r.out, "body-steps inside nt_world_step: ")) fail_msg("%s", r.out);
+    if (!strstr(r.out, "\n# checks: ")) fail_msg("no checks summary in:\n%s", r.out);
+    run_free(&r);
+    const char *a2[] = {"bench", "world", "bounce", "--runs", "1", "--min-ms", "0", "--profile", "--wide", NULL};
+    run_cli(&r, NULL, a2);
+    assert_int_equal(r.status, 0);
+    if (!strstr(r.out, "#  bounce           phases, ns/body-step: pairs ")) fail_msg("no phase row with --profile:\n%s", r.out);
+    if (!strstr(r.out, "# pen: deepest penetration") || !strstr(r.out, "analytic")) fail_msg("no wide table:\n%s", r.out);
+    if (!strstr(r.out, "apex error") || !strstr(r.out, "PASS")) fail_msg("no checks with --wide:\n%s", r.out);
+    run_free(&r);
+}
+
 /* `bench world` argument errors (the scenes themselves take seconds: not run here). */
 static void test_bench_world_usage(void **state)
 {
@@ -880,6 +1113,10 @@ int main(void)
         cmocka_unit_test(test_pair_answers),
         cmocka_unit_test(test_map_resolve_and_ray),
         cmocka_unit_test(test_no_negative_zero),
+        cmocka_unit_test(test_shortest_numbers),
+        cmocka_unit_test(test_line_numbers),
+        cmocka_unit_test(test_tile_names),
+        cmocka_unit_test(test_help_everywhere),
         cmocka_unit_test(test_error_lines),
         cmocka_unit_test(test_resolve_large),
         cmocka_unit_test(test_resolve_and_ray_need_a_map),
@@ -893,6 +1130,7 @@ int main(void)
         cmocka_unit_test(test_random_bytes),
         cmocka_unit_test(test_demo_file),
         cmocka_unit_test(test_bench_narrow),
+        cmocka_unit_test(test_bench_world_table),
         cmocka_unit_test(test_bench_world_usage),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

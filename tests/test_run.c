@@ -180,6 +180,280 @@ static void test_failures_are_reported(void **state)
     run_free(&r);
 }
 
+/* ---------- -j, --shard, --junit ---------- */
+
+/* The output without the milliseconds (they differ from run to run): each result
+ * line "... N ticks   T ms" is cut after "ticks". */
+static char *without_times(const char *out)
+{
+    char *copy = malloc(strlen(out) + 1);
+    assert_non_null(copy);
+    char *o = copy;
+    for (const char *line = out; *line;) {
+        const char *nl = strchr(line, '\n');
+        size_t n = nl ? (size_t)(nl - line) + 1 : strlen(line);
+        const char *t = strstr(line, " ticks ");
+        if (t && t < line + n && n >= 4 && strncmp(line + n - 4, " ms\n", 4) == 0) {
+            size_t keep = (size_t)(t - line) + 6;
+            memcpy(o, line, keep);
+            o += keep;
+            *o++ = '\n';
+        } else {
+            memcpy(o, line, n);
+            o += n;
+        }
+        line += n;
+    }
+    *o = '\0';
+    return copy;
+}
+
+/* The replays for the parallel tests: a slow one first (so that later ones finish
+ * before it under -j), passing and failing ones, and ones that cannot be loaded. */
+#define PAR_FILES 9
+static const char *par_files[PAR_FILES];
+
+static void write_par_files(void)
+{
+    scratch_write_text("lvl.ntl", level_text);
+    scratch_write_text("ok.ntr", replay_ok);
+    scratch_write_text("slow.ntr", "ntile-replay 1\nname slow\nlevel lvl.ntl\nticks 20000\ninput 60R 100L\n"
+                                   "expect alive always\n");
+    scratch_write_text("bad.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 60\ninput 60L\nexpect complete by 60\n");
+    scratch_write_text("syntax.ntr", "ntile-replay 1\nlevel lvl.ntl\nticks 10\nexpect happy at 3\n");
+    scratch_write_text("stay.ntr", "ntile-replay 1\nname stay\nlevel lvl.ntl\nticks 30\nexpect not complete at 30\n");
+    scratch_write_text("left.ntr", "ntile-replay 1\nname left\nlevel lvl.ntl\nticks 90\ninput 90L\n"
+                                   "expect score == 0 at 90\n");
+    static const char *const names[PAR_FILES] = {"slow.ntr", "ok.ntr",  "bad.ntr", "nothere.ntr", "stay.ntr",
+                                                 "syntax.ntr", "left.ntr", "lvl.ntl", "ok.ntr"};
+    for (int i = 0; i < PAR_FILES; i++) par_files[i] = scratch_path(names[i]);
+}
+
+/* `ntile run OPTIONS... FILES...` */
+static void run_files(run_result *r, const char *const *options, int nfiles, const char *const *files)
+{
+    const char *args[32];
+    int n = 0;
+    args[n++] = "run";
+    for (; *options; options++) args[n++] = *options;
+    for (int i = 0; i < nfiles; i++) args[n++] = files[i];
+    args[n] = NULL;
+    run_cli(r, args);
+}
+
+static void test_parallel_same_output(void **state)
+{
+    (void)state;
+    write_par_files();
+    const char *none[] = {NULL};
+    run_result plain;
+    run_files(&plain, none, PAR_FILES, par_files);
+    expect_status(&plain, 1);
+    expect_in(plain.out, "\n5 passed, 4 failed\n");
+    char *want = without_times(plain.out);
+    /* The slow replay is first, the level file gets a hint towards --level. */
+    if (strncmp(want, "ok     slow ", 12) != 0) fail_msg("first line is not the slow replay:\n%s", want);
+    expect_in(want, "is a level, not a replay: run it with ntile run --level ");
+    static const char *const jobs[] = {"2", "3", "9", "64"};
+    for (size_t k = 0; k < sizeof jobs / sizeof jobs[0]; k++) {
+        const char *opts[] = {"-j", jobs[k], NULL};
+        run_result r;
+        run_files(&r, opts, PAR_FILES, par_files);
+        expect_status(&r, 1);
+        char *got = without_times(r.out);
+        if (strcmp(got, want) != 0) fail_msg("-j %s: output\n%s\ndiffers from the plain run's\n%s", jobs[k], got, want);
+        free(got);
+        run_free(&r);
+    }
+    const char *glued[] = {"-j4", NULL};
+    run_result r;
+    run_files(&r, glued, PAR_FILES, par_files);
+    char *got = without_times(r.out);
+    assert_string_equal(got, want);
+    free(got);
+    run_free(&r);
+    /* All passing: exit 0 with -j too. */
+    const char *two[] = {par_files[0], par_files[1]};
+    const char *opts[] = {"-j", "2", NULL};
+    run_files(&r, opts, 2, two);
+    expect_status(&r, 0);
+    expect_in(r.out, "\n2 passed, 0 failed\n");
+    run_free(&r);
+    free(want);
+    run_free(&plain);
+}
+
+/* The result lines of an output (the "ok" / "not ok" lines and what is indented under
+ * them), without times and without the closing count. */
+static char *results_only(const char *out)
+{
+    char *t = without_times(out);
+    char *last = strstr(t, " passed, ");
+    if (last) {
+        while (last > t && last[-1] != '\n') last--;
+        *last = '\0';
+    }
+    return t;
+}
+
+static void test_shards(void **state)
+{
+    (void)state;
+    write_par_files();
+    const char *none[] = {NULL};
+    for (int n = 1; n <= 4; n++) {
+        int passed = 0, failed = 0;
+        for (int i = 1; i <= n; i++) {
+            char shard[16];
+            snprintf(shard, sizeof shard, "%d/%d", i, n);
+            /* What the shard must print: the plain run of files i, i+n, ... */
+            const char *mine[PAR_FILES];
+            int m = 0;
+            for (int k = i - 1; k < PAR_FILES; k += n) mine[m++] = par_files[k];
+            run_result want_r, r;
+            run_files(&want_r, none, m, mine);
+            for (int j = 0; j < 2; j++) {
+                const char *opts[] = {"--shard", shard, j ? "-j" : NULL, "3", NULL};
+                run_files(&r, opts, PAR_FILES, par_files);
+                expect_status(&r, want_r.status);
+                char *got = results_only(r.out), *want = results_only(want_r.out);
+                if (strcmp(got, want) != 0) fail_msg("--shard %s%s: output\n%s\nexpected\n%s", shard, j ? " -j 3" : "", got, want);
+                int p = 0, f = 0;
+                const char *tail = strstr(r.out, " passed, ");
+                assert_non_null(tail);
+                while (tail > r.out && tail[-1] != '\n') tail--;
+                assert_int_equal(sscanf(tail, "%d passed, %d failed", &p, &f), 2);
+                if (j == 0) {
+                    passed += p;
+                    failed += f;
+                }
+                free(got);
+                free(want);
+                run_free(&r);
+            }
+            run_free(&want_r);
+        }
+        /* The shards together ran every file once. */
+        assert_int_equal(passed, 5);
+        assert_int_equal(failed, 4);
+    }
+    /* A replay given to --level: the hint goes the other way. */
+    const char *rev[] = {"run", "--level", scratch_path("ok.ntr"), "--ticks", "5", NULL};
+    run_result rr;
+    run_cli(&rr, rev);
+    expect_status(&rr, 1);
+    expect_in(rr.err, "ok.ntr is a replay, not a level: run it with ntile run ");
+    run_free(&rr);
+    /* More shards than files: an empty shard passes with nothing run. */
+    const char *opts[] = {"--shard", "3/3", NULL};
+    run_result r;
+    run_files(&r, opts, 2, par_files);
+    expect_status(&r, 0);
+    assert_string_equal(r.out, "0 passed, 0 failed\n");
+    run_free(&r);
+    static const char *const bad[] = {"0/3", "4/3", "3", "a/b", "1/0", "/2", "2/", "-1/2"};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *o[] = {"--shard", bad[k], NULL};
+        run_files(&r, o, 1, par_files);
+        expect_status(&r, 2);
+        expect_in(r.err, "--shard needs I/N");
+        run_free(&r);
+    }
+    static const char *const badj[] = {"0", "65", "x", ""};
+    for (size_t k = 0; k < sizeof badj / sizeof badj[0]; k++) {
+        const char *o[] = {"-j", badj[k], NULL};
+        run_files(&r, o, 1, par_files);
+        expect_status(&r, 2);
+        expect_in(r.err, "-j needs a number of processes in 1..64");
+        run_free(&r);
+    }
+    const char *lv[] = {"run", "--level", par_files[7], "--ticks", "5", "-j", "2", NULL};
+    run_cli(&r, lv);
+    expect_status(&r, 2);
+    expect_in(r.err, "-j, --shard and --junit go with replay files");
+    run_free(&r);
+}
+
+/* xmllint from PATH (Debian's libxml2-utils; `make test` installs it). */
+static const char *find_xmllint(void)
+{
+    static char found[4096];
+    const char *path = getenv("PATH");
+    if (!path || !*path) path = "/usr/bin:/bin";
+    while (*path) {
+        size_t n = strcspn(path, ":");
+        snprintf(found, sizeof found, "%.*s/xmllint", (int)n, path);
+        if (access(found, X_OK) == 0) return found;
+        path += n + (path[n] == ':');
+    }
+    fail_msg("xmllint not found in PATH: install Debian's libxml2-utils (tools/deps.sh xmllint)");
+    return NULL;
+}
+
+/* Validate a report against tests/junit.xsd; the test fails with xmllint's words. */
+static void expect_valid_junit(const char *report)
+{
+    const char *xsd = getenv("NTILE_JUNIT_XSD");
+    if (!xsd || !*xsd) xsd = "tests/junit.xsd";
+    char abs_xsd[4096];
+    if (xsd[0] != '/') {
+        char cwd[2048];
+        assert_non_null(getcwd(cwd, sizeof cwd));
+        snprintf(abs_xsd, sizeof abs_xsd, "%s/%s", cwd, xsd);
+        xsd = abs_xsd;
+    }
+    if (access(xsd, R_OK) != 0) fail_msg("cannot read %s (run the tests from the source tree)", xsd);
+    const char *args[] = {"--noout", "--schema", xsd, report, NULL};
+    run_result r;
+    child_run(&r, scratch_dir(), find_xmllint(), args, NULL, NULL, 256);
+    if (r.status != 0) fail_msg("%s does not validate against %s:\n%s%s", report, xsd, r.out, r.err);
+    run_free(&r);
+}
+
+static void test_junit(void **state)
+{
+    (void)state;
+    write_par_files();
+    /* A replay whose name needs escaping, and a file name outside ASCII. */
+    scratch_write_text("amp.ntr", "ntile-replay 1\nname a&b<c>\nlevel lvl.ntl\nticks 10\nexpect complete at 10\n");
+    const char *files[PAR_FILES + 2];
+    for (int i = 0; i < PAR_FILES; i++) files[i] = par_files[i];
+    files[PAR_FILES] = scratch_path("amp.ntr");
+    files[PAR_FILES + 1] = scratch_path("caf\xc3\xa9 & <x>.ntr");
+    const char *report = scratch_path("report.xml");
+    const char *opts[] = {"--junit", report, NULL};
+    run_result r;
+    run_files(&r, opts, PAR_FILES + 2, files);
+    expect_status(&r, 1);
+    expect_valid_junit(report);
+    char *xml = scratch_read(report, NULL);
+    expect_in(xml, "<testsuite name=\"ntile run\" tests=\"11\" failures=\"");
+    /* Failures: the facts of bad and amp; errors: nothere, syntax, lvl.ntl and the café file. */
+    expect_in(xml, " tests=\"11\" failures=\"2\" errors=\"4\" ");
+    expect_in(xml, "<testcase name=\"a&amp;b&lt;c&gt;\" ");
+    expect_in(xml, "<testcase name=\"caf?? &amp; &lt;x&gt;\" ");
+    expect_in(xml, "<testcase name=\"slow\" classname=\"ntile.replay\" file=\"");
+    expect_in(xml, "<failure message=\"line 5: expect complete by 60: never true in ticks 0..60");
+    expect_in(xml, "<error message=\"cannot open '");
+    expect_in(xml, "is a level, not a replay: run it with ntile run --level ");
+    free(xml);
+    run_free(&r);
+    /* -j and --shard write the same kind of report: validated, and each shard counts its own. */
+    const char *opts2[] = {"--junit", report, "-j", "3", "--shard", "2/2", NULL};
+    run_files(&r, opts2, PAR_FILES + 2, files);
+    expect_valid_junit(report);
+    xml = scratch_read(report, NULL);
+    expect_in(xml, "<testsuite name=\"ntile run (shard 2/2)\" tests=\"5\" ");
+    free(xml);
+    run_free(&r);
+    /* An unwritable report is an I/O error (status 2). */
+    const char *opts3[] = {"--junit", scratch_path("no/such/dir/report.xml"), NULL};
+    run_files(&r, opts3, 1, files + 1);
+    expect_status(&r, 2);
+    expect_in(r.err, "cannot write");
+    run_free(&r);
+}
+
 /* ---------- --record-hashes ---------- */
 
 static const char *scalar(void) { return NT_REAL_IS_DOUBLE ? "double" : "float"; }
@@ -351,7 +625,7 @@ static void test_convert(void **state)
     run_cli(&r, conv);
     expect_status(&r, 0);
     char want[5000];
-    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 is not supported; skipped\n", scratch_dir());
+    snprintf(want, sizeof want, "%s/levels.txt:1:739: warning: N object type 3 (gauss turret) is not supported; skipped\n", scratch_dir());
     expect_in(r.err, want);
     snprintf(want, sizeof want, "holds 2 levels; converted the first (choose one with --index N)\n");
     expect_in(r.err, want);
@@ -398,6 +672,9 @@ int main(void)
         cmocka_unit_test(test_shipped_replays),
         cmocka_unit_test(test_output_format),
         cmocka_unit_test(test_failures_are_reported),
+        cmocka_unit_test(test_parallel_same_output),
+        cmocka_unit_test(test_shards),
+        cmocka_unit_test(test_junit),
         cmocka_unit_test(test_record_hashes),
         cmocka_unit_test(test_level_mode),
         cmocka_unit_test(test_usage_errors),

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Make sure the Debian packages a target needs are installed.
 # Usage: tools/deps.sh FEATURE...   (features: cc, cxx, cmocka, clang, fuzzer, pkgconfig, sdl2, xvfb,
-#                                    valgrind, chipmunk, box2d, multilib; tiled: jansson, expat and zlib for the
+#                                    valgrind, xmllint, chipmunk, box2d, multilib; tiled: jansson, expat and zlib for the
 #                                    Tiled importer of the ntile CLI)
 # Installs what is missing with apt-get when run as root; otherwise prints the exact
 # command to run and exits 1.
@@ -36,6 +36,7 @@ for f in "$@"; do
     xvfb) command -v xvfb-run >/dev/null 2>&1 || missing="$missing xvfb"
           command -v xauth >/dev/null 2>&1 || missing="$missing xauth" ;; # xvfb-run needs it (only recommended by xvfb)
     valgrind) command -v valgrind >/dev/null 2>&1 || missing="$missing valgrind" ;;
+    xmllint) command -v xmllint >/dev/null 2>&1 || missing="$missing libxml2-utils" ;; # test_run checks JUnit reports
     multilib) # 32-bit x86 programs from gcc (make determinism)
         printf '#include <math.h>\nint main(void){return (int)sqrt(4.0);}\n' \
             | gcc -m32 -x c - -o /dev/null -lm >/dev/null 2>&1 || missing="$missing gcc-multilib" ;;

@@ -175,6 +175,10 @@ int nt_game_get_bodies(const nt_game *game, nt_body_id *out, int cap);
 /// regions), edges included.
 bool nt_game_body_in_region(const nt_game *game, nt_body_id body, int region);
 
+/// True when region `region` is a switch the player has turned on (its exit and doors
+/// are open, its trap doors closed).
+bool nt_game_switch_is_on(const nt_game *game, int region);
+
 /// The position of a path at `time` seconds from the start for a body with `phase`.
 nt_vec2 nt_path_position(const nt_level_path *path, double time, double phase);
 

@@ -50,7 +50,8 @@ typedef enum nt_region_kind {
     NT_REGION_ZONE = 0,  ///< a named area, for expectations
     NT_REGION_EXIT = 1,  ///< the player's centre inside: level complete
     NT_REGION_SCORE = 2, ///< a body's centre inside: score += value once, the body is removed
-    NT_REGION_KILL = 3   ///< the player's centre inside: dead; other dynamic bodies are removed
+    NT_REGION_KILL = 3,  ///< the player's centre inside: dead; other dynamic bodies are removed
+    NT_REGION_SWITCH = 4 ///< the player's centre inside: the switch is on (for good); it opens exits and doors
 } nt_region_kind;
 
 /// A named axis-aligned area, lo..hi in world units.
@@ -59,7 +60,16 @@ typedef struct nt_level_region {
     nt_region_kind kind;
     nt_vec2 lo, hi;
     int value; ///< score regions: points per body
+    int needs; ///< exit regions: 1 + index of the switch region that opens it (0: open from the start)
 } nt_level_region;
+
+/// What a door body does (nt_level_body.door). Doors are solid static or kinematic bodies.
+typedef enum nt_door_kind {
+    NT_DOOR_NONE = 0,   ///< not a door
+    NT_DOOR_PLAIN = 1,  ///< opens (goes away) when the player touches it
+    NT_DOOR_LOCKED = 2, ///< solid until its switch is on, then goes away
+    NT_DOOR_TRAP = 3    ///< open (collides with nothing) until its switch is on, then solid
+} nt_door_kind;
 
 /// How a kinematic body follows its path.
 typedef enum nt_path_mode {
@@ -79,6 +89,15 @@ typedef struct nt_level_path {
     nt_vec2 center;                           ///< ORBIT
     nt_real radius;                           ///< ORBIT, > 0
 } nt_level_path;
+
+/// The side a one-way body of the game layer stops the player from (nt_level_body.one_way).
+typedef enum nt_one_way_side {
+    NT_ONE_WAY_NONE = 0,  ///< an ordinary body
+    NT_ONE_WAY_RIGHT = 1, ///< solid to a player wholly to its right, passable from elsewhere
+    NT_ONE_WAY_DOWN = 2,  ///< solid to a player wholly below it
+    NT_ONE_WAY_LEFT = 3,  ///< solid to a player wholly to its left
+    NT_ONE_WAY_UP = 4     ///< solid to a player wholly above it
+} nt_one_way_side;
 
 /// A body of the level (or, with repeat_x * repeat_y > 1, a grid of identical ones).
 typedef struct nt_level_body {
@@ -103,6 +122,11 @@ typedef struct nt_level_body {
     bool is_template; ///< not created with the level; spawners copy it
     int repeat_x, repeat_y; ///< instances in a grid (1 x 1 = one body)
     nt_vec2 repeat_step;    ///< spacing of the grid
+    nt_door_kind door;      ///< a door of the game layer (static or kinematic, not a sensor or template)
+    int door_switch;        ///< NT_DOOR_LOCKED, NT_DOOR_TRAP: 1 + index of the switch region (0 otherwise)
+    nt_one_way_side one_way; ///< a one-way platform of the game layer facing that side (static or
+                             ///< kinematic, not a door): it collides with nothing while the player is
+                             ///< not wholly on that side of it
 } nt_level_body;
 
 /// When a spawner creates a body.
@@ -215,9 +239,12 @@ typedef void nt_warning_fn(const char *message, void *context);
 /// Import level number `index` (0-based: the index-th line that holds a level) of an N
 /// v1.4 text: `$name#author##TILES|OBJECTS#`, 713 tile characters stored column by
 /// column. Gives a 33 x 25 level of cell 24 with the one-cell FULL border, the player
-/// spawn, the exit door (region "exit"), gold (score sensors), mines (deadly sensors),
-/// one-way platforms, bounce blocks (dynamic boxes) and launch pads (bouncy cells).
-/// Unknown or unsupported objects are skipped with a warning. *count (may be NULL)
+/// spawn, the exit door (region "exit" that needs its switch region "exitswitch"),
+/// doors (plain, locked and trap doors with their switches), gold (score sensors),
+/// mines (deadly sensors), one-way platforms (cells facing up, one-way bodies facing
+/// the other ways), bounce blocks (dynamic boxes)
+/// and launch pads (bouncy cells). Unknown or unsupported objects are skipped with a
+/// warning that names them. *count (may be NULL)
 /// receives the number of levels in the text.
 nt_status nt_level_import_n14(const char *name, const char *text, size_t length, int index, nt_level **out,
                               int *count, nt_text_error *error, nt_warning_fn *warn, void *context);

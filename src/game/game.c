@@ -125,6 +125,8 @@ static void remove_body(nt_game *g, game_body *b)
     b->alive = false;
 }
 
+static void set_one_way_bodies(nt_game *g);
+
 /* ---------------------------------------------------------------- create / destroy */
 
 nt_player_def nt_default_player_def(void)
@@ -169,6 +171,7 @@ void nt_game_destroy(nt_game *g)
     nt_free(g->touched);
     free(g->level_first);
     free(g->spawn_counts);
+    free(g->switch_on);
     free(g);
 }
 
@@ -268,13 +271,27 @@ nt_status nt_game_create(const nt_level *lv, const nt_game_def *def, nt_game **o
             s = add_record(g, pid, GB_PLAYER, -1);
         }
     }
-    for (int i = 0; i < lv->region_count; i++)
+    for (int i = 0; i < lv->region_count; i++) {
         if (lv->regions[i].kind == NT_REGION_SCORE || lv->regions[i].kind == NT_REGION_KILL) g->has_score_or_kill = true;
+        if (lv->regions[i].kind == NT_REGION_SWITCH && !g->switch_on && s == NT_OK) {
+            g->switch_on = calloc((size_t)lv->region_count, sizeof *g->switch_on);
+            if (!g->switch_on) s = NT_ERR_OUT_OF_MEMORY;
+        }
+    }
+    for (int i = 0; i < lv->body_count; i++) g->has_one_way |= lv->bodies[i].one_way != NT_ONE_WAY_NONE;
+    /* Trap doors start open: they collide with nothing until their switch is on. */
+    for (int i = 0; s == NT_OK && i < g->body_count; i++) {
+        const game_body *b = &g->bodies[i];
+        if (b->source == GB_LEVEL && lv->bodies[b->level_body].door == NT_DOOR_TRAP) s = nt_body_set_filter(g->world, b->id, 0, 0);
+    }
     if (s != NT_OK) {
         nt_game_destroy(g);
         return s;
     }
-    if (g->player_record >= 0) nt__player_sense(g);
+    if (g->player_record >= 0) {
+        nt__player_sense(g);
+        set_one_way_bodies(g);
+    }
     *out = g;
     return NT_OK;
 }
@@ -367,6 +384,11 @@ nt_status nt_game_set_tile(nt_game *g, int x, int y, int tile)
     return nt_world_set_tile(g->world, x, y, tile);
 }
 
+bool nt_game_switch_is_on(const nt_game *g, int region)
+{
+    return g && g->switch_on && region >= 0 && region < g->level->region_count && g->switch_on[region];
+}
+
 static bool point_in_region(const nt_level_region *r, nt_vec2 p)
 {
     return p.x >= r->lo.x && p.x <= r->hi.x && p.y >= r->lo.y && p.y <= r->hi.y;
@@ -422,6 +444,8 @@ uint64_t nt_game_hash(const nt_game *g)
     }
     h = mix(h, g->rng.state);
     for (int i = 0; i < g->level->spawner_count; i++) h = mix(h, (uint64_t)(uint32_t)g->spawn_counts[i]);
+    if (g->switch_on) /* only levels with switches: the hashes of the others stay as they were */
+        for (int i = 0; i < g->level->region_count; i++) h = mix(h, (uint64_t)g->switch_on[i]);
     return h;
 }
 
@@ -553,11 +577,29 @@ static void apply_events(nt_game *g)
         game_body *b = nt__game_record(g, touched[i]);
         const nt_level_body *lb = level_body_of(g, b);
         if (!lb) continue;
+        if (lb->door == NT_DOOR_PLAIN && !g->dead) {
+            remove_body(g, b); /* a plain door opens at the player's touch */
+            continue;
+        }
         if (lb->deadly && !g->dead) kill_player(g);
         if (lb->score > 0 && !g->dead) {
             g->score += lb->score;
             remove_body(g, b);
         }
+    }
+}
+
+/* Switch r goes on: its locked doors go away, its trap doors become solid (no
+ * allocation: nothing here can fail). */
+static void turn_switch_on(nt_game *g, int r)
+{
+    g->switch_on[r] = true;
+    for (int i = 0; i < g->body_count; i++) {
+        game_body *b = &g->bodies[i];
+        const nt_level_body *lb = level_body_of(g, b);
+        if (!b->alive || b->source != GB_LEVEL || !lb || lb->door_switch != r + 1) continue;
+        if (lb->door == NT_DOOR_LOCKED) remove_body(g, b);
+        else if (lb->door == NT_DOOR_TRAP) nt_body_set_filter(g->world, b->id, lb->category, lb->mask);
     }
 }
 
@@ -570,7 +612,9 @@ static void apply_regions(nt_game *g)
         for (int r = 0; r < lv->region_count; r++) {
             const nt_level_region *rg = &lv->regions[r];
             if (!point_in_region(rg, p)) continue;
-            if (rg->kind == NT_REGION_EXIT && !g->complete) {
+            if (rg->kind == NT_REGION_SWITCH && !g->switch_on[r]) {
+                turn_switch_on(g, r);
+            } else if (rg->kind == NT_REGION_EXIT && !g->complete && (rg->needs == 0 || g->switch_on[rg->needs - 1])) {
                 g->complete = true;
                 g->complete_tick = g->tick;
             } else if (rg->kind == NT_REGION_KILL) {
@@ -590,6 +634,30 @@ static void apply_regions(nt_game *g)
             if (rg->kind == NT_REGION_SCORE) g->score += rg->value;
             remove_body(g, b);
         }
+    }
+}
+
+/* One-way bodies of the game layer (nt_level_body.one_way): solid (the level's filter)
+ * while the player lies wholly on the side they face, within a twentieth of a cell;
+ * colliding with nothing otherwise, so that the player passes from the other sides. */
+static void set_one_way_bodies(nt_game *g)
+{
+    if (!g->has_one_way) return;
+    nt_world *w = g->world;
+    nt_body_id pid = g->bodies[g->player_record].id;
+    nt_vec2 p = nt_body_get_position(w, pid);
+    nt_real r = nt_body_get_shape(w, pid).half.x, tol = g->cell / 20;
+    for (int i = 0; i < g->body_count; i++) {
+        game_body *b = &g->bodies[i];
+        const nt_level_body *lb = level_body_of(g, b);
+        if (!b->alive || b->source != GB_LEVEL || !lb || lb->one_way == NT_ONE_WAY_NONE) continue;
+        nt_vec2 c = nt_body_get_position(w, b->id), h = nt_body_get_shape(w, b->id).half;
+        bool outside = lb->one_way == NT_ONE_WAY_RIGHT  ? p.x - r >= c.x + h.x - tol
+                       : lb->one_way == NT_ONE_WAY_LEFT ? p.x + r <= c.x - h.x + tol
+                       : lb->one_way == NT_ONE_WAY_DOWN ? p.y - r >= c.y + h.y - tol
+                                                        : p.y + r <= c.y - h.y + tol;
+        uint32_t cat = outside ? lb->category : 0, mask = outside ? lb->mask : 0;
+        if (nt_body_get_category(w, b->id) != cat || nt_body_get_mask(w, b->id) != mask) nt_body_set_filter(w, b->id, cat, mask);
     }
 }
 
@@ -671,6 +739,9 @@ nt_status nt_game_step(nt_game *g, uint32_t keys, nt_real dt)
     g->prev_keys = keys;
     apply_events(g);
     apply_regions(g);
-    if (g->player_record >= 0) nt__player_sense(g);
+    if (g->player_record >= 0) {
+        nt__player_sense(g);
+        set_one_way_bodies(g); /* for the next tick, from where the player ended this one */
+    }
     return NT_OK;
 }

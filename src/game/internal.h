@@ -51,6 +51,8 @@ struct nt_game {
     int tick, score, complete_tick, death_tick, spawned;
     bool complete, dead;
     bool has_score_or_kill; /* some region acts on bodies other than the player */
+    bool *switch_on;        /* per region: the switch is on; NULL when the level has no switch */
+    bool has_one_way;       /* some level body is a one-way body of the game layer */
     /* Undo of a step that fails (nt_alloc'd; reserved before the step changes anything). */
     int *saved_spawn_counts;  /* per spawner */
     nt_vec2 *saved_path_vel;  /* per path body, in record order */

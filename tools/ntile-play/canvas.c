@@ -172,22 +172,50 @@ void pg_arrow(pg_canvas *c, double x0, double y0, double x1, double y1, double h
     pg_line(c, x1, y1, x1 + bx * head, y1 + by * head, color);
 }
 
+/* The pixels of row y whose centres lie in the disc: [*a, *b]; 0 when none. The fill
+ * and the outline share it, so an outline is exactly the fill's edge. */
+static int disc_span(double cx, double cy, double r, int y, int *a, int *b)
+{
+    double dy = y + 0.5 - cy, h2 = r * r - dy * dy;
+    if (h2 < 0) return 0;
+    double hw = sqrt(h2);
+    double lo = ceil(cx - hw - 0.5), hi = floor(cx + hw - 0.5);
+    if (hi < lo) return 0;
+    *a = (int)lo, *b = (int)hi;
+    return 1;
+}
+
+/* The outline of a disc: the pixels of pg_fill_circle's disc that have a 4-neighbour
+ * outside it (smooth at any radius, and the fill never pokes out of it). */
 void pg_circle(pg_canvas *c, double cx, double cy, double r, uint32_t color)
 {
-    if (!finite4(cx, cy, r, 0) || r < 0) return;
+    if (!finite4(cx, cy, r, 0) || r < 0 || r > 1e6) return;
     if (cx + r < c->cx0 - 1 || cx - r > c->cx1 + 1 || cy + r < c->cy0 - 1 || cy - r > c->cy1 + 1) return;
     if (r < 0.75) {
         pg_pixel(c, (int)floor(cx), (int)floor(cy), color);
         return;
     }
-    int n = (int)(r * 0.9) + 12;
-    if (n > 720) n = 720;
-    double px = cx + r, py = cy;
-    for (int k = 1; k <= n; k++) {
-        double a = 6.283185307179586 * k / n;
-        double qx = cx + r * cos(a), qy = cy + r * sin(a);
-        pg_line(c, px, py, qx, qy, color);
-        px = qx, py = qy;
+    int y0 = (int)floor(cy - r) - 1, y1 = (int)ceil(cy + r) + 1;
+    if (y0 < c->cy0 - 1) y0 = c->cy0 - 1;
+    if (y1 > c->cy1 + 1) y1 = c->cy1 + 1;
+    for (int y = y0; y < y1; y++) {
+        int a, b, ua, ub, da, db;
+        if (!disc_span(cx, cy, r, y, &a, &b)) continue;
+        int up = disc_span(cx, cy, r, y - 1, &ua, &ub), dn = disc_span(cx, cy, r, y + 1, &da, &db);
+        if (!up || !dn) { /* the top or bottom row: all of it */
+            span(c, y, a, b + 1, color);
+            continue;
+        }
+        /* Inside where both neighbour rows cover x too (and not an end of the row). */
+        int ia = ua > da ? ua : da, ib = ub < db ? ub : db;
+        if (ia < a + 1) ia = a + 1;
+        if (ib > b - 1) ib = b - 1;
+        if (ib < ia) {
+            span(c, y, a, b + 1, color);
+            continue;
+        }
+        span(c, y, a, ia, color);
+        span(c, y, ib + 1, b + 1, color);
     }
 }
 
@@ -198,13 +226,11 @@ void pg_fill_circle(pg_canvas *c, double cx, double cy, double r, uint32_t color
     if (y0 < c->cy0) y0 = c->cy0;
     if (y1 > c->cy1) y1 = c->cy1;
     for (int y = y0; y < y1; y++) {
-        double dy = y + 0.5 - cy, h2 = r * r - dy * dy;
-        if (h2 < 0) continue;
-        double hw = sqrt(h2);
-        double a = ceil(cx - hw - 0.5), b = floor(cx + hw - 0.5);
+        int a, b;
+        if (!disc_span(cx, cy, r, y, &a, &b)) continue;
         if (a < c->cx0) a = c->cx0;
-        if (b > c->cx1) b = c->cx1;
-        if (b >= a) span(c, y, (int)a, (int)b + 1, color);
+        if (b > c->cx1 - 1) b = c->cx1 - 1;
+        if (b >= a) span(c, y, a, b + 1, color);
     }
 }
 
@@ -266,8 +292,8 @@ int pg_text(pg_canvas *c, int x, int y, const char *text, uint32_t color, int sc
             continue;
         }
         unsigned ch = (*s >= 32 && *s < 127) ? *s : '?';
-        const unsigned char *g = pg_font5x7[ch - 32];
-        for (int row = 0; row < 7; row++)
+        const unsigned char *g = pg_font[ch - 32];
+        for (int row = 0; row < PG_FONT_ROWS; row++)
             for (int col = 0; col < 5; col++)
                 if (g[row] & (0x10u >> col))
                     pg_fill_rect(c, cx + col * scale, y + row * scale, cx + (col + 1) * scale, y + (row + 1) * scale, color);

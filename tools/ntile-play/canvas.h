@@ -48,17 +48,19 @@ void pg_fill_polygon(pg_canvas *c, const double *xy, int n, uint32_t color);
 /* Closed outline of the same. */
 void pg_polygon(pg_canvas *c, const double *xy, int n, uint32_t color);
 
-/* Text in the 5 x 7 font, `scale` pixels per font pixel, top-left at (x, y); '\n'
+/* Text in the 5 x 9 font, `scale` pixels per font pixel, top-left at (x, y); '\n'
  * starts a new line. Returns the width in pixels of the longest line. */
 int pg_text(pg_canvas *c, int x, int y, const char *text, uint32_t color, int scale);
 int pg_text_width(const char *text, int scale);
 /* Advance and line height of the font at a scale. */
 #define PG_CHAR_W 6
-#define PG_CHAR_H 9
+#define PG_CHAR_H 11
 
 /* Colour helpers. */
 uint32_t pg_mix(uint32_t a, uint32_t b, int alpha); /* a + (b - a) * alpha / 255 */
 
-extern const unsigned char pg_font5x7[95][7];
+/* The font: 5 columns, PG_FONT_ROWS rows (the baseline under row 7, descenders below). */
+#define PG_FONT_ROWS 9
+extern const unsigned char pg_font[95][PG_FONT_ROWS];
 
 #endif

@@ -21,7 +21,7 @@ enum { EXIT_USAGE = 2 };
 
 static void usage(FILE *f)
 {
-    fputs("usage: ntile-play [LEVEL.ntl] [options]\n"
+    fputs("usage: ntile-play [LEVEL.ntl | REPLAY.ntr] [options]\n"
           "\n"
           "Plays a level (default levels/ninja.ntl) in a window: arrows/WASD move, Z/space jump,\n"
           "X act, H shows every key. Options:\n"
@@ -52,9 +52,10 @@ static void usage(FILE *f)
           "  --help               this text\n"
           "\n"
           "Script lines (FRAME counts from 1; events are handled at the start of that frame):\n"
-          "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...)\n"
+          "  FRAME down KEY | FRAME up KEY | FRAME press KEY     (SDL key names: Right, Z, F5, ...;\n"
+          "                                                     LShift, LCtrl, LAlt for the modifiers)\n"
           "  FRAME mouse down|up left|middle|right X Y | FRAME mouse move X Y | FRAME wheel DY\n"
-          "  FRAME resize W H | FRAME quit\n"
+          "  FRAME resize W H | FRAME drop FILE (a level or replay dropped on the window) | FRAME quit\n"
           "\n"
           "Exit status: 0 ok, 1 runtime error (level, replay, window, file), 2 usage error.\n"
           "Without a display: SDL_VIDEODRIVER=dummy (or offscreen) with --frames and --screenshot.\n",
@@ -65,6 +66,7 @@ static void usage(FILE *f)
 
 typedef struct script_event {
     int frame, order;
+    char *drop; /* a file dropped on the window (the event gets a copy SDL can free) */
     int resize_w, resize_h; /* > 0: resize the window instead of pushing ev */
     SDL_Event ev;
 } script_event;
@@ -87,9 +89,18 @@ static int script_add(script *s, int frame, const SDL_Event *ev, int resize_w, i
     s->e[s->n].order = s->n;
     s->e[s->n].resize_w = resize_w;
     s->e[s->n].resize_h = resize_h;
+    s->e[s->n].drop = NULL;
     s->e[s->n].ev = *ev;
     s->n++;
     return 1;
+}
+
+static void script_free(script *s)
+{
+    for (int i = 0; i < s->n; i++) free(s->e[i].drop);
+    free(s->e);
+    s->e = NULL;
+    s->n = 0;
 }
 
 static int cmp_event(const void *a, const void *b)
@@ -144,7 +155,16 @@ static int load_script(const char *path, script *s)
             ev.type = SDL_QUIT;
             ok = script_add(s, (int)frame, &ev, 0, 0);
         } else if (n == 3 && (strcmp(w[1], "down") == 0 || strcmp(w[1], "up") == 0 || strcmp(w[1], "press") == 0)) {
-            SDL_Keycode k = SDL_GetKeyFromName(w[2]);
+            /* SDL's names of the modifiers hold a space: one-word aliases. */
+            static const struct {
+                const char *alias;
+                SDL_Keycode key;
+            } aliases[] = {{"LShift", SDLK_LSHIFT}, {"RShift", SDLK_RSHIFT}, {"LCtrl", SDLK_LCTRL},
+                           {"RCtrl", SDLK_RCTRL},   {"LAlt", SDLK_LALT},     {"RAlt", SDLK_RALT}};
+            SDL_Keycode k = SDLK_UNKNOWN;
+            for (size_t i = 0; i < sizeof aliases / sizeof aliases[0]; i++)
+                if (strcmp(w[2], aliases[i].alias) == 0) k = aliases[i].key;
+            if (k == SDLK_UNKNOWN) k = SDL_GetKeyFromName(w[2]);
             if (k == SDLK_UNKNOWN) why = "unknown key name (SDL names: Left, Right, Up, Down, Z, Space, F5, ...)";
             else {
                 ev.key.keysym.sym = k;
@@ -188,6 +208,14 @@ static int load_script(const char *path, script *s)
                 why = "resize needs a width (160..8192) and a height (120..8192)";
             else
                 ok = script_add(s, (int)frame, &ev, (int)rw, (int)rh); /* the window is resized, as a user would */
+        } else if (n == 3 && strcmp(w[1], "drop") == 0) {
+            ev.type = SDL_DROPFILE;
+            ev.drop.file = NULL;
+            ok = script_add(s, (int)frame, &ev, 0, 0);
+            if (ok) {
+                s->e[s->n - 1].drop = strdup(w[2]);
+                ok = s->e[s->n - 1].drop != NULL;
+            }
         } else if (n == 3 && strcmp(w[1], "wheel") == 0) {
             double dy;
             if (!parse_double(w[2], &dy)) why = "wheel needs a number";
@@ -233,6 +261,13 @@ static uint32_t held_keys(void)
     return k;
 }
 
+static bool holds_space(void)
+{
+    for (int i = 0; i < HOLD_COUNT; i++)
+        if (holds[i].key == SDLK_SPACE) return holds[i].down;
+    return false;
+}
+
 /* A key press: 0 to go on, 1 to quit. */
 static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
 {
@@ -250,6 +285,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_QUOTE: pg_command(p, PG_CMD_FRICTION, 1); return 0;
     case SDLK_TAB: pg_command(p, PG_CMD_TILE, shift ? -1 : 1); return 0;
     case SDLK_PERIOD: pg_command(p, PG_CMD_STEP, 0); return 0;
+    case SDLK_COMMA: pg_command(p, PG_CMD_STEP_BACK, 0); return 0;
     default: break;
     }
     if (repeat) return 0;
@@ -264,7 +300,7 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
         return 0;
     }
     switch (k) {
-    case SDLK_ESCAPE: return 1;
+    case SDLK_ESCAPE: return pg_request_quit(p);
     case SDLK_r: pg_command(p, PG_CMD_RESTART, 0); break;
     case SDLK_PAGEUP: pg_command(p, PG_CMD_LEVEL_PREV, 0); break;
     case SDLK_PAGEDOWN: pg_command(p, PG_CMD_LEVEL_NEXT, 0); break;
@@ -277,20 +313,52 @@ static int key_down(pg *p, SDL_Keycode k, Uint16 mod, bool repeat)
     case SDLK_f: pg_command(p, PG_CMD_FRICTION_MODEL, 0); break;
     case SDLK_F2: pg_command(p, PG_CMD_SAVE, 0); break;
     case SDLK_F5: pg_command(p, PG_CMD_RECORD, 0); break;
+    case SDLK_F3: pg_command(p, PG_CMD_PANEL, 0); break;
+    case SDLK_F6: pg_command(p, PG_CMD_TOOL, shift ? -2 : -1); break;
+    case SDLK_F7: pg_command(p, PG_CMD_DIVERGENCE, 0); break;
+    case SDLK_END: pg_command(p, PG_CMD_REPLAY_END, 0); break;
     case SDLK_HOME: pg_command(p, PG_CMD_ZOOM, 0); break;
     default: break;
     }
     return 0;
 }
 
+/* The window has the keyboard focus (assumed until SDL says otherwise: a window
+ * manager-less X server such as Xvfb never gives it). */
+static bool focused = true;
+/* Modifier keys held, as the key events said (PG_MOD_*). */
+static unsigned mods;
+
 /* One SDL event: 0 to go on, 1 to quit. */
 static int handle_event(pg *p, const SDL_Event *e, int *resized)
 {
     switch (e->type) {
-    case SDL_QUIT: return 1;
+    case SDL_QUIT: return pg_request_quit(p);
     case SDL_KEYDOWN:
     case SDL_KEYUP: {
         bool down = e->type == SDL_KEYDOWN;
+        SDL_Keycode sym = e->key.keysym.sym;
+        /* Modifiers: SDL's, or the events' own (scripted events carry none). */
+        unsigned bit = sym == SDLK_LSHIFT || sym == SDLK_RSHIFT ? PG_MOD_SHIFT
+                       : sym == SDLK_LCTRL || sym == SDLK_RCTRL ? PG_MOD_CTRL
+                       : sym == SDLK_LALT || sym == SDLK_RALT   ? PG_MOD_ALT
+                                                                : 0;
+        if (bit) mods = down ? mods | bit : mods & ~bit;
+        unsigned m = mods | ((e->key.keysym.mod & KMOD_SHIFT) ? PG_MOD_SHIFT : 0) |
+                     ((e->key.keysym.mod & KMOD_CTRL) ? PG_MOD_CTRL : 0) | ((e->key.keysym.mod & KMOD_ALT) ? PG_MOD_ALT : 0);
+        pg_set_mods(p, m);
+        if (pg_confirming(p) && down) { /* a question waits: Y, N / Esc, F2 */
+            if (!e->key.repeat) {
+                if (sym == SDLK_y) pg_command(p, PG_CMD_CONFIRM, 1);
+                else if (sym == SDLK_n || sym == SDLK_ESCAPE) pg_command(p, PG_CMD_CONFIRM, 0);
+                else if (sym == SDLK_F2) pg_command(p, PG_CMD_CONFIRM, 2);
+            }
+            return pg_should_quit(p);
+        }
+        if (down && (m & PG_MOD_CTRL) && (sym == SDLK_z || sym == SDLK_y)) {
+            pg_command(p, sym == SDLK_y || (m & PG_MOD_SHIFT) ? PG_CMD_REDO : PG_CMD_UNDO, 0);
+            return 0;
+        }
         bool held = false;
         for (int i = 0; i < HOLD_COUNT; i++)
             if (holds[i].key == e->key.keysym.sym) {
@@ -308,13 +376,23 @@ static int handle_event(pg *p, const SDL_Event *e, int *resized)
                 : e->button.button == SDL_BUTTON_MIDDLE ? PG_MOUSE_MIDDLE
                 : e->button.button == SDL_BUTTON_RIGHT ? PG_MOUSE_RIGHT
                                                         : 0;
+        /* Space + left drag pans (Space is also the jump key). */
+        static bool space_pan;
+        if (b == PG_MOUSE_LEFT && e->type == SDL_MOUSEBUTTONDOWN) space_pan = holds_space();
+        if (b == PG_MOUSE_LEFT && space_pan) b = PG_MOUSE_PAN;
         if (b) pg_mouse_button(p, b, e->type == SDL_MOUSEBUTTONDOWN, e->button.x, e->button.y);
         return 0;
     }
     case SDL_MOUSEWHEEL: pg_mouse_wheel(p, e->wheel.y); return 0;
+    case SDL_DROPFILE: /* a level or a replay dropped on the window */
+        if (e->drop.file) pg_open(p, e->drop.file);
+        SDL_free(e->drop.file);
+        return 0;
     case SDL_WINDOWEVENT:
         if (e->window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e->window.event == SDL_WINDOWEVENT_RESIZED) *resized = 1;
+        if (e->window.event == SDL_WINDOWEVENT_FOCUS_GAINED) focused = true;
         if (e->window.event == SDL_WINDOWEVENT_FOCUS_LOST) {
+            focused = false;
             /* Key releases go to the other window: nothing stays held. */
             for (int i = 0; i < HOLD_COUNT; i++) holds[i].down = false;
             pg_set_keys(p, 0);
@@ -514,6 +592,11 @@ static int parse_args(int argc, char **argv, args *a)
             fprintf(stderr, "ntile-play: unknown option '%s' (see --help)\n", s);
             return 0;
         } else {
+            size_t l = strlen(s);
+            if (l > 4 && strcmp(s + l - 4, ".ntr") == 0 && !a->o.replay_path) { /* a replay given as a file */
+                a->o.replay_path = s;
+                continue;
+            }
             if (a->o.level_path) {
                 fprintf(stderr, "ntile-play: more than one level given ('%s' and '%s')\n", a->o.level_path, s);
                 return 0;
@@ -552,7 +635,7 @@ int main(int argc, char **argv)
     script sc;
     memset(&sc, 0, sizeof sc);
     if (a.script && !load_script(a.script, &sc)) {
-        free(sc.e);
+        script_free(&sc);
         return EXIT_USAGE;
     }
     bool fixed = !a.realtime && (a.frames > 0 || a.script);
@@ -561,7 +644,7 @@ int main(int argc, char **argv)
     pg *p = pg_create(&a.o, why, sizeof why);
     if (!p) {
         fprintf(stderr, "ntile-play: %s\n", why);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
@@ -571,7 +654,7 @@ int main(int argc, char **argv)
                 "ntile-play: or `make run` for the headless replay of the default level\n",
                 SDL_GetError());
         pg_destroy(p);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
     /* Offscreen and dummy drivers have their own framebuffer: do not let SDL load an
@@ -590,11 +673,11 @@ int main(int argc, char **argv)
                 driver);
         SDL_Quit();
         pg_destroy(p);
-        free(sc.e);
+        script_free(&sc);
         return 1;
     }
-    char title[256];
-    snprintf(title, sizeof title, "ntile-play %d.%d.%d", NT_VERSION_MAJOR, NT_VERSION_MINOR, NT_VERSION_PATCH);
+    char title[512];
+    pg_title(p, title, sizeof title);
     SDL_Window *win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, a.w, a.h, SDL_WINDOW_RESIZABLE);
     pg_canvas canvas;
     memset(&canvas, 0, sizeof canvas);
@@ -627,10 +710,26 @@ int main(int argc, char **argv)
             }
             SDL_Event ev = se->ev;
             ev.common.timestamp = SDL_GetTicks();
+            if (ev.type == SDL_DROPFILE) ev.drop.file = SDL_strdup(se->drop);
             SDL_PushEvent(&ev);
         }
         SDL_Event ev;
         int resized = 0;
+        bool idle_timeout = false, idle_msg = false;
+        if (!fixed && (pg_idle(p) || !focused)) {
+            /* Paused or in the background: nothing moves, so sleep until something
+             * happens (a key, the mouse, the window) instead of drawing 60 frames a
+             * second; wake at least every half second for messages and --seconds. */
+            int ms = 500;
+            if (a.seconds > 0) {
+                double left = a.seconds - (double)(SDL_GetPerformanceCounter() - start) / (double)freq;
+                ms = left <= 0 ? 0 : left * 1000 < ms ? (int)(left * 1000) + 1 : ms;
+            }
+            bool msg_before = pg_message(p)[0] != 0;
+            if (SDL_WaitEventTimeout(&ev, ms)) quit = handle_event(p, &ev, &resized);
+            else idle_timeout = true;
+            idle_msg = msg_before;
+        }
         while (!quit && SDL_PollEvent(&ev)) quit = handle_event(p, &ev, &resized);
         if (quit) break;
         if (resized) {
@@ -643,7 +742,20 @@ int main(int argc, char **argv)
         last = now;
         if (dt > 0) fps = fps > 0 ? fps * 0.9 + 0.1 / dt : 1 / dt;
         if (fixed) pg_advance_frame(p);
-        else pg_advance(p, dt);
+        else pg_advance(p, focused ? dt : 0); /* the game stands still while the window is in the background */
+        /* A sleep that ended without an event changes nothing on screen, unless a
+         * message just ran out. */
+        if (idle_timeout && !resized && idle_msg == (pg_message(p)[0] != 0) && sc.next >= sc.n) {
+            double elapsed0 = (double)(SDL_GetPerformanceCounter() - start) / (double)freq;
+            if (a.seconds > 0 && elapsed0 >= a.seconds) break;
+            continue;
+        }
+        char now_title[512];
+        pg_title(p, now_title, sizeof now_title);
+        if (strcmp(now_title, title) != 0) {
+            snprintf(title, sizeof title, "%s", now_title);
+            SDL_SetWindowTitle(win, title);
+        }
         pg_render(p, &canvas, fps);
         SDL_Surface *ws = SDL_GetWindowSurface(win);
         SDL_Surface *cs = canvas_surface(&canvas);
@@ -677,6 +789,6 @@ done:
     if (win) SDL_DestroyWindow(win);
     SDL_Quit();
     pg_destroy(p);
-    free(sc.e);
+    script_free(&sc);
     return rc;
 }

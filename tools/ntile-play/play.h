@@ -71,9 +71,33 @@ typedef enum pg_cmd {
     PG_CMD_SAVE,
     PG_CMD_RECORD,
     PG_CMD_ZOOM,        /* arg: +1 / -1 / 0 (reset) */
+    PG_CMD_PANEL,       /* the side panel: left, right, hidden */
+    PG_CMD_GRAVITY,     /* arg: +1 / -1: gravity's y by a tenth of the level's (or 32) */
+    PG_CMD_DT,          /* cycle the tick: 1/40, 1/60, 1/120, 1/20 s */
+    PG_CMD_SLEEP,       /* sleeping on / off (rebuilds the world) */
+    PG_CMD_UNDO,
+    PG_CMD_REDO,
+    PG_CMD_CONFIRM,     /* arg: 1 yes (discard and go on), 0 no (keep the edits), 2 save first */
+    PG_CMD_TOOL,        /* arg: a PG_TOOL_*, or -1 / -2: next / previous (F6 / Shift+F6) */
+    PG_CMD_MATERIAL,    /* arg: +1 / -1: the material tool's material */
+    PG_CMD_SEEK,        /* arg: the replay's tick to go to (back: played again from the start) */
+    PG_CMD_STEP_BACK,   /* one tick back (pauses) */
+    PG_CMD_REPLAY_END,  /* the replay's last tick */
+    PG_CMD_DIVERGENCE,  /* the first tick whose hash differs from the replay's */
+    PG_CMD_OPEN,        /* open the file pg_open named */
 } pg_cmd;
 
-enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3 };
+enum { PG_MOUSE_LEFT = 1, PG_MOUSE_MIDDLE = 2, PG_MOUSE_RIGHT = 3, PG_MOUSE_PAN = 4 /* Space + left */, PG_MOUSE_TIMELINE = 5 };
+/* Modifier keys held (pg_set_mods): Shift+right-drag erases, Ctrl+right-drag fills a
+ * rectangle, Alt+right-click picks the tile under the mouse (eyedropper). */
+enum { PG_MOD_SHIFT = 1, PG_MOD_CTRL = 2, PG_MOD_ALT = 4 };
+/* Tools of the left button (PG_CMD_TOOL): throw bodies (and inspect them), or place and
+ * move level objects. */
+enum { PG_TOOL_THROW, PG_TOOL_GOLD, PG_TOOL_MINE, PG_TOOL_EXIT, PG_TOOL_SPAWN, PG_TOOL_ONE_WAY, PG_TOOL_MATERIAL,
+       PG_TOOL_PLATFORM, PG_TOOL_COUNT };
+extern const char *const pg_tool_names[PG_TOOL_COUNT];
+/* pg_command's confirmation target for quitting. */
+#define PG_CONFIRM_QUIT 1000
 
 /* ---------------------------------------------------------------- options */
 
@@ -117,6 +141,15 @@ void pg_set_keys(pg *p, uint32_t keys);
 
 void pg_command(pg *p, pg_cmd cmd, int arg);
 
+void pg_set_mods(pg *p, unsigned mods);
+
+/* Ask to quit: true when nothing would be lost (or the user confirmed); otherwise a
+ * confirmation is shown and pg_should_quit turns true once it is answered yes. */
+bool pg_request_quit(pg *p);
+bool pg_should_quit(const pg *p);
+/* A confirmation is waiting: keys go to it (Y, N / Esc, F2). */
+bool pg_confirming(const pg *p);
+
 /* Mouse in window pixels. */
 void pg_mouse_move(pg *p, double x, double y);
 void pg_mouse_button(pg *p, int button, bool down, double x, double y);
@@ -127,6 +160,10 @@ void pg_mouse_wheel(pg *p, double dy);
 int pg_advance(pg *p, double seconds);
 int pg_advance_frame(pg *p);
 
+/* Nothing changes without input: paused (or the level stands still), no drag, no
+ * key that pans. The window loop then sleeps until an event. */
+bool pg_idle(const pg *p);
+
 /* Draw the current state. fps: the frame rate to show. */
 void pg_render(pg *p, pg_canvas *c, double fps);
 
@@ -136,6 +173,13 @@ void pg_finish(pg *p);
 /* One line of state for automation: tick, score, bodies, player; in the lab, the last
  * collision's momentum and kinetic energy before and after (as the HUD shows them). */
 void pg_summary(const pg *p, char *out, size_t cap);
+
+/* Open a level (.ntl) or a replay (.ntr) — dropped on the window; asks first when
+ * edits would be lost. */
+void pg_open(pg *p, const char *path);
+
+/* The window's title: the level's title and its (normalised) path, "*" when edited. */
+void pg_title(const pg *p, char *out, size_t cap);
 
 /* State for main.c and the tests. */
 const char *pg_message(const pg *p);

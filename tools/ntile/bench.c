@@ -186,9 +186,13 @@ static const bench_scene scenes[] = {
 
 void cli_bench_usage(FILE *f)
 {
-    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS] [--out PATH]\n"
+    fputs("  ntile bench SCENE [NAME...] [--runs N] [--min-ms MS] [--out PATH] [--wide] [--profile]\n"
           "      Time a part of the engine: median of N runs (default 7), each lasting at\n"
-          "      least MS milliseconds (default 20). Scenes:\n",
+          "      least MS milliseconds (default 20). A progress line per scene goes to\n"
+          "      stderr, and a warning when a spread is above 25 % (a busy host). world:\n"
+          "      one narrow row per check with PASS/FAIL against its target; --wide: every\n"
+          "      error column instead; --profile: the step split by phase under each scene.\n"
+          "      Scenes:\n",
           f);
     for (size_t i = 0; i < SCENE_COUNT; i++) fprintf(f, "        %-10s %s\n", scenes[i].name, scenes[i].summary);
 }
@@ -217,6 +221,12 @@ static int option_number(int argc, char **argv, int *i, double lo, double hi, do
 
 int cli_bench(int argc, char **argv)
 {
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            printf("usage:\n");
+            cli_bench_usage(stdout);
+            return CLI_OK;
+        }
     if (argc < 2) {
         fprintf(stderr, "ntile bench: missing benchmark name\n");
         return bench_usage_error();
@@ -228,7 +238,7 @@ int cli_bench(int argc, char **argv)
         fprintf(stderr, "ntile bench: unknown benchmark '%s'\n", argv[1]);
         return bench_usage_error();
     }
-    bench_opts opts = {7, 20, NULL};
+    bench_opts opts = {7, 20, NULL, 0, 0};
     char **words = malloc(sizeof(char *) * (size_t)argc);
     int nwords = 0;
     if (!words) return CLI_USAGE;
@@ -247,6 +257,10 @@ int cli_bench(int argc, char **argv)
                 return bench_usage_error();
             }
             opts.min_ms = v;
+        } else if (strcmp(argv[i], "--wide") == 0) {
+            opts.wide = 1;
+        } else if (strcmp(argv[i], "--profile") == 0) {
+            opts.profile = 1;
         } else if (strcmp(argv[i], "--out") == 0) {
             if (i + 1 >= argc) {
                 fprintf(stderr, "ntile bench: --out needs a path\n");

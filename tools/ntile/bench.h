@@ -3,6 +3,7 @@
 #define NTILE_BENCH_H
 
 #include <stdint.h>
+#include <stdio.h>
 #include "ntile/ntile.h"
 
 #define SCALAR_NAME (NT_REAL_IS_DOUBLE ? "double" : "float")
@@ -11,7 +12,15 @@ typedef struct bench_opts {
     int runs;      /* timed runs; the median is reported */
     double min_ms; /* shortest duration of one run (micro-benchmarks) */
     const char *out; /* --out: output file (sweep: CSV; plot: prefix of .csv and .svg) */
+    int wide;        /* --wide (world): every error column in one wide row per scene */
+    int profile;     /* --profile (world): the step split by phase under each scene */
 } bench_opts;
+
+/* A run's spread above this (percent) means the host was busy: a warning on stderr. */
+#define BENCH_SPREAD_WARN 25.0
+/* The warning on f (stderr in the benchmarks), when a spread (percent) is above
+ * BENCH_SPREAD_WARN; returns 1 when it warned. */
+int bench_warn_spread(FILE *f, const char *bench, const char *what, double spread);
 
 /* CLOCK_MONOTONIC in nanoseconds. */
 double bench_now_ns(void);

@@ -225,6 +225,7 @@ int bench_character(const bench_opts *opts, int nargs, char **args)
     double depth = 0;
     int deep = 0, outside = 0, same = 1, ok = per != NULL, ref_awake = 0;
     engine_setting none = {"ntile", 0, 0, 1, -1, 0};
+    fprintf(stderr, "ntile bench character: %d runs of the characters and of the reference ...\n", opts->runs);
     for (int r = 0; r < opts->runs && ok; r++) {
         per[r] = char_run(CHAR_BODIES, &count, &depth, &deep, &outside);
         run_result a = bench_run(&engine_ntile, &none, &ref, 1, 0), b = bench_run(&engine_ntile, &none, &awake, 1, 0);
@@ -248,6 +249,8 @@ int bench_character(const bench_opts *opts, int nargs, char **args)
     aw.ns = bench_median(per_awake, opts->runs, &aw.ns_min, &aw.ns_max);
     free(per);
     double ratio = ns / rr.ns;
+    bench_warn_spread(stderr, "character", "character move", ns > 0 ? (hi - lo) / 2 / ns * 100 : 0);
+    bench_warn_spread(stderr, "character", "reference particles step", run_spread(&rr));
     printf("%-30s %8.1f ns/move       (%d x %d moves a run; runs %.1f..%.1f)\n", "character move", ns,
            CHAR_BODIES, CHAR_STEPS, lo, hi);
     printf("%-30s %8.1f ns/body-step  (particles, every body a %.1f x %.1f box, %d x %d steps; runs %.1f..%.1f; "

@@ -54,3 +54,12 @@ double bench_rng_range(uint64_t *s, double lo, double hi)
 {
     return lo + (hi - lo) * ((double)(bench_rng_next(s) >> 11) * 0x1.0p-53);
 }
+
+int bench_warn_spread(FILE *f, const char *bench, const char *what, double spread)
+{
+    if (!(spread > BENCH_SPREAD_WARN)) return 0;
+    fprintf(f, "ntile bench %s: warning: %s: spread %.1f %% over the runs (above %.0f %%): the host was busy, "
+                        "the time is not reliable; run again on a quiet machine\n",
+            bench, what, spread, BENCH_SPREAD_WARN);
+    return 1;
+}

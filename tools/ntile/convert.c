@@ -161,6 +161,12 @@ int cli_convert(int argc, char **argv)
     int n14 = strcmp(argv[1], "n14") == 0;
     if (!n14 && strcmp(argv[1], "tiled") != 0)
         return usage_error("unknown format '%s' (this ntile converts n14 and tiled)", argv[1]);
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            printf("usage:\n");
+            cli_convert_usage(stdout);
+            return CLI_OK;
+        }
     convert_args a;
     char *text;
     size_t len;

@@ -7,7 +7,7 @@
  *   ntile convert n14 FILE convert an N v1.4 level to .ntl
  *   ntile convert tiled MAP  convert a Tiled map (.tmx, .tmj) to .ntl
  *   ntile sheet [-o FILE]  the answer-key sheet (SVG)
- *   ntile help             this text
+ *   ntile help             this text (no arguments: the same on stderr, exit 2)
  */
 #include <stdio.h>
 #include <string.h>
@@ -25,13 +25,17 @@ static void usage(FILE *f)
     cli_run_usage(f);
     cli_convert_usage(f);
     cli_sheet_usage(f);
-    fputs("  ntile help\n      This text (also --help, -h, or no arguments).\n", f);
+    fputs("  ntile help\n      This text (also --help or -h; with no arguments it goes to stderr, exit 2).\n"
+          "  ntile SUBCOMMAND --help\n      The usage of one subcommand (exit 0).\n", f);
 }
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||
-        strcmp(argv[1], "-h") == 0) {
+    if (argc < 2) { /* no subcommand: a usage error */
+        usage(stderr);
+        return CLI_USAGE;
+    }
+    if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
         return CLI_OK;
     }

@@ -5,7 +5,10 @@
  * A field starting with '#' also ends a line early (trailing comment). Fields are
  * separated by spaces or tabs; a line ends at LF, CR LF, or the end of the input.
  * Cell size is 1, y points down, numbers are what strtod accepts (finite only);
- * output numbers use "%.9g" and print +0 for -0.
+ * tile names match ignoring case. Output numbers are the shortest decimals that read
+ * back as the same nt_real (float or double: -0.35, not -0.349999994), +0 for -0.
+ * With -n (--line-numbers) every output line starts with "N: ", the input line it
+ * answers.
  *
  *   tile NAME aabb CX CY HW HH      -> DX DY   (box out of tile NAME alone in cell (0,0))
  *   tile NAME circle CX CY R        -> DX DY
@@ -30,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "../common/tilename.h"
 #include "cli.h"
 #include "ntile/ntile.h"
 
@@ -148,6 +152,7 @@ static int read_line(reader *r, line *l, size_t max)
 
 typedef struct query {
     FILE *out;
+    int line_numbers; /* -n: "N: " before each output line */
     unsigned long long lineno;
     unsigned long long errors;
     nt_map *map;
@@ -159,6 +164,7 @@ typedef struct query {
 static int fail(query *q, const char *fmt, ...)
 {
     va_list ap;
+    if (q->line_numbers) fprintf(q->out, "%llu: ", q->lineno);
     fprintf(q->out, "error: line %llu: ", q->lineno);
     va_start(ap, fmt);
     vfprintf(q->out, fmt, ap);
@@ -246,7 +252,17 @@ static int tile_id(const char *s)
         int id = atoi(s);
         return id < NT_TILE_COUNT ? id : -1;
     }
-    return nt_tile_from_name(s);
+    return tilename_lookup(s);
+}
+
+/* "unknown tile name 'X'" with a hint: the closest name, else where the names are. */
+static int fail_tile(query *q, const char *s, const char *where)
+{
+    char qb[QUOTE_MAX];
+    const char *near = tilename_suggest(s);
+    if (near) return fail(q, "unknown tile name '%s'%s (did you mean '%s'?)", quote(qb, s), where, near);
+    return fail(q, "unknown tile name '%s'%s (expected an N tile name or id 0..%d: EMPTY, FULL, 45DEGpn, ..., HALFl, "
+                "any case; see the tile table in README.md)", quote(qb, s), where, NT_TILE_COUNT - 1);
 }
 
 /* A map side: a decimal integer in 1..NT_MAP_MAX_SIDE. */
@@ -307,15 +323,48 @@ static int expect_fields(query *q, size_t n, const char *form)
 
 /* ---------- output ---------- */
 
+/* The shortest decimal that reads back as the same nt_real: the fewest significant
+ * digits (1..9 for float, 1..17 for double) whose %e form strtof / strtod turns into
+ * the same bits; printed without an exponent when it lies in 1e-5 .. 1e17. +0 for -0. */
+static void format_real(char *buf, size_t cap, nt_real v)
+{
+    if (v == 0) v = 0; /* +0, never -0 */
+    const int max_digits = NT_REAL_IS_DOUBLE ? 17 : 9;
+    int digits = max_digits;
+    for (int p = 1; p <= max_digits; p++) {
+        snprintf(buf, cap, "%.*e", p - 1, (double)v);
+#if NT_REAL_IS_DOUBLE
+        nt_real back = strtod(buf, NULL);
+#else
+        nt_real back = strtof(buf, NULL);
+#endif
+        if (memcmp(&back, &v, sizeof v) == 0) {
+            digits = p;
+            break;
+        }
+    }
+    snprintf(buf, cap, "%.*e", digits - 1, (double)v);
+    const char *e = strchr(buf, 'e');
+    int exp10 = e ? atoi(e + 1) : 0;
+    if (exp10 >= -5 && exp10 < 17) snprintf(buf, cap, "%.*f", digits - 1 - exp10 > 0 ? digits - 1 - exp10 : 0, (double)v);
+}
+
 static void put_num(FILE *o, nt_real v)
 {
-    double d = (double)v;
-    if (d == 0) d = 0; /* +0, never -0 */
-    fprintf(o, "%.9g", d);
+    char buf[64];
+    format_real(buf, sizeof buf, v);
+    fputs(buf, o);
+}
+
+/* The "N: " of -n before an answer. */
+static void put_prefix(query *q)
+{
+    if (q->line_numbers) fprintf(q->out, "%llu: ", q->lineno);
 }
 
 static void put_vec(query *q, nt_real x, nt_real y)
 {
+    put_prefix(q);
     put_num(q->out, x);
     fputc(' ', q->out);
     put_num(q->out, y);
@@ -332,14 +381,13 @@ static void put_mtv(query *q, bool hit, const nt_mtv *m)
 
 static void cmd_tile(query *q)
 {
-    char qb[QUOTE_MAX];
     if (q->nfields < 3) {
         fail(q, "wrong number of fields: expected 'tile NAME aabb CX CY HW HH' or 'tile NAME circle CX CY R'");
         return;
     }
     int tile = tile_id(q->fields[1]);
     if (tile < 0) {
-        fail(q, "unknown tile name '%s'", quote(qb, q->fields[1]));
+        fail_tile(q, q->fields[1], "");
         return;
     }
     placed p;
@@ -384,6 +432,7 @@ static void cmd_ray(query *q)
         return;
     }
     nt_ray_hit h;
+    put_prefix(q);
     if (!nt_map_raycast(q->map, nt_v2(v[0], v[1]), nt_v2(v[2], v[3]), &h)) {
         fputs("miss\n", q->out);
         return;
@@ -391,12 +440,14 @@ static void cmd_ray(query *q)
     fputs("hit ", q->out);
     put_num(q->out, h.fraction);
     fputc(' ', q->out);
-    put_vec(q, h.normal.x, h.normal.y);
+    put_num(q->out, h.normal.x);
+    fputc(' ', q->out);
+    put_num(q->out, h.normal.y);
+    fputc('\n', q->out);
 }
 
 static void cmd_map(query *q)
 {
-    char qb[QUOTE_MAX];
     if (q->nfields < 4) {
         fail(q, "wrong number of fields: expected 'map W H T1,T2,...'");
         return;
@@ -425,7 +476,9 @@ static void cmd_map(query *q)
             if (comma) *comma = '\0';
             int id = *s ? tile_id(s) : -1;
             if (id < 0) {
-                if (*s) fail(q, "unknown tile name '%s' (map tile %zu)", quote(qb, s), k + 1);
+                char where[48];
+                snprintf(where, sizeof where, " (map tile %zu)", k + 1);
+                if (*s) fail_tile(q, s, where);
                 else fail(q, "empty tile name (map tile %zu)", k + 1);
                 free(tiles);
                 return;
@@ -452,6 +505,7 @@ static void cmd_map(query *q)
     }
     nt_map_destroy(q->map);
     q->map = map;
+    put_prefix(q);
     fputs("ok\n", q->out);
 }
 
@@ -485,7 +539,7 @@ static void run_line(query *q, char *text)
 /* ---------- the subcommand ---------- */
 
 /* Answer every line of r on out. Returns the exit status. */
-static int query_run(reader *r, FILE *out, size_t max_line, const char *label)
+static int query_run(reader *r, FILE *out, size_t max_line, const char *label, int line_numbers)
 {
     r->flush = out;
     r->pos = r->len = 0;
@@ -493,6 +547,7 @@ static int query_run(reader *r, FILE *out, size_t max_line, const char *label)
     r->error = 0;
     query q = {0};
     q.out = out;
+    q.line_numbers = line_numbers;
     line l = {0};
     while (read_line(r, &l, max_line)) {
         q.lineno++;
@@ -525,10 +580,10 @@ static int query_run(reader *r, FILE *out, size_t max_line, const char *label)
 
 void cli_query_usage(FILE *f)
 {
-    fputs("  ntile query [--max-line BYTES] [FILE|-]\n"
+    fputs("  ntile query [-n] [--max-line BYTES] [FILE|-]\n"
           "      Answer collision queries read from FILE (default: standard input). Cells\n"
           "      have size 1, y points down. Every line that is not blank or a # comment\n"
-          "      gets one output line:\n"
+          "      gets one output line (-n, --line-numbers: led by \"N: \", its input line):\n"
           "        tile NAME aabb CX CY HW HH    -> DX DY   box out of tile NAME in cell (0,0)\n"
           "        tile NAME circle CX CY R      -> DX DY\n"
           "        map W H T1,T2,...             -> ok      W*H tile names or ids, row-major\n"
@@ -536,7 +591,9 @@ void cli_query_usage(FILE *f)
           "        resolve circle CX CY R        -> DX DY\n"
           "        ray X0 Y0 X1 Y1               -> hit T NX NY | miss\n"
           "        pair SHAPE... SHAPE...        -> DX DY   first shape out of the second\n"
-          "      A bad line prints \"error: line N: REASON\". Exit status: 0 every line was\n"
+          "      Tile names match ignoring case. Numbers are printed in the shortest form that\n"
+          "      reads back as the same float (or double). A bad line prints\n"
+          "      \"error: line N: REASON\". Exit status: 0 every line was\n"
           "      answered, 1 some line failed, 2 usage or read error. Lines longer than\n"
           "      BYTES (default 256 MiB) are errors.\n",
           f);
@@ -546,7 +603,7 @@ int cli_query(int argc, char **argv)
 {
     const char *path = NULL;
     size_t max_line = QUERY_DEFAULT_MAX_LINE;
-    int options = 1;
+    int options = 1, line_numbers = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (options && strcmp(a, "--") == 0) {
@@ -555,6 +612,8 @@ int cli_query(int argc, char **argv)
             printf("usage:\n");
             cli_query_usage(stdout);
             return CLI_OK;
+        } else if (options && (strcmp(a, "-n") == 0 || strcmp(a, "--line-numbers") == 0)) {
+            line_numbers = 1;
         } else if (options && strcmp(a, "--max-line") == 0) {
             char *end;
             unsigned long long v = i + 1 < argc ? strtoull(argv[i + 1], &end, 10) : 0;
@@ -595,7 +654,7 @@ int cli_query(int argc, char **argv)
     r->fd = fd;
     r->mem = NULL;
     r->mem_left = 0;
-    int status = query_run(r, stdout, max_line, label);
+    int status = query_run(r, stdout, max_line, label, line_numbers);
     if (fd != STDIN_FILENO) close(fd);
     free(r);
     return status;
@@ -608,7 +667,7 @@ int cli_query_buffer(const void *buf, size_t len, FILE *out, size_t max_line)
     r->fd = -1;
     r->mem = (const unsigned char *)buf;
     r->mem_left = len;
-    int status = query_run(r, out, max_line ? max_line : QUERY_DEFAULT_MAX_LINE, "the buffer");
+    int status = query_run(r, out, max_line ? max_line : QUERY_DEFAULT_MAX_LINE, "the buffer", 0);
     free(r);
     return status;
 }

@@ -52,7 +52,11 @@ int cli_soak(int argc, char **argv)
     long steps = 1000000, bodies = 10000;
     double max_rise = 1e-4;
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--steps") == 0) {
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            printf("usage:\n");
+            cli_soak_usage(stdout);
+            return CLI_OK;
+        } else if (strcmp(argv[i], "--steps") == 0) {
             if (!arg_long(argc, argv, &i, 1, 1000000000L, &steps)) return CLI_USAGE;
         } else if (strcmp(argv[i], "--bodies") == 0) {
             if (!arg_long(argc, argv, &i, 1, 200000, &bodies)) return CLI_USAGE;

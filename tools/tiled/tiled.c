@@ -16,6 +16,7 @@
 #include <zlib.h>
 #include "internal.h"
 #include "../common/stream.h"
+#include "../common/tilename.h"
 
 /* ---------------------------------------------------------------- arena */
 
@@ -591,10 +592,14 @@ static nt_status tile_name(tl_ctx *c, const char *what, const tl_prop *p, int *o
         return NT_OK;
     }
     char q[64];
-    for (int i = 0; i < NT_TILE_COUNT; i++)
-        if (strcasecmp(nt_tile_get_info(i)->name, p->value) == 0)
-            return tl_fail(c, p->loc, "%s: property \"ntile\": unknown tile name %s (did you mean \"%s\"? names are case-sensitive)",
-                           what, tl_quote(q, p->value), nt_tile_get_info(i)->name);
+    int same = tilename_lookup(p->value);
+    if (same >= 0)
+        return tl_fail(c, p->loc, "%s: property \"ntile\": unknown tile name %s (did you mean \"%s\"? names are case-sensitive)",
+                       what, tl_quote(q, p->value), nt_tile_get_info(same)->name);
+    const char *near = tilename_suggest(p->value);
+    if (near)
+        return tl_fail(c, p->loc, "%s: property \"ntile\": unknown tile name %s (did you mean \"%s\"?)", what,
+                       tl_quote(q, p->value), near);
     return tl_fail(c, p->loc, "%s: property \"ntile\": unknown tile name %s (expected an N tile name: EMPTY, FULL, "
                    "45DEGpn, ..., HALFl; see the tile table in README.md)", what, tl_quote(q, p->value));
 }
