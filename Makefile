@@ -58,7 +58,7 @@ endif
 # -fno-math-errno: sqrt is one instruction, without a check for negative inputs
 # (ntile never reads errno; the results are the same bits).
 # 32-bit x86: x87 arithmetic keeps excess precision (results differ from every other
-# target, replays diverge): SSE2 arithmetic instead. src/internal.h refuses to compile with
+# target, replays diverge): SSE2 arithmetic instead. src/core_internal.h refuses to compile with
 # excess precision (__FLT_EVAL_METHOD__ != 0).
 X86_32 := $(shell printf '' | $(CC) $(CFLAGS) -dM -E -x c - 2>/dev/null | grep -c '__i386__ 1')
 ifeq ($(X86_32),1)

@@ -10,7 +10,7 @@
  * the exact overlap test at the middle of each piece says which. The first inside
  * piece starts at the entry time.
  */
-#include "world_internal.h"
+#include "simulation.h"
 
 /* A crossing of the segment with a boundary curve, and the curve's normal there:
  * a line's unit normal, or a circle's radius vector (made unit when asked for),

@@ -15,7 +15,7 @@
  * where the last one ended (resting on a surface counts as free, see character.h).
  */
 #include <math.h>
-#include "world_internal.h"
+#include "simulation.h"
 
 nt_character_def nt_default_character_def(void)
 {

@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
-#include "internal.h"
+#include "core_internal.h"
 
 #define CAP_TEXT_(n) #n
 #define CAP_TEXT(n) CAP_TEXT_(n)

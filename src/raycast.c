@@ -28,7 +28,7 @@
  *     cell's `seams` bit) is not chosen as the surface normal when another one is.
  */
 #include <float.h>
-#include "internal.h"
+#include "core_internal.h"
 
 /* ------------------------------------------------------------------------------ */
 /* Entry selection: the latest entering constraint, with ties resolved toward faces  */

@@ -6,7 +6,7 @@
 #define NT_TEXT_H
 
 #include <stdarg.h>
-#include "internal.h"
+#include "core_internal.h"
 #include "ntile/level.h"
 
 /* Most fields on one line (a path with 64 waypoints needs about 140). */

@@ -5,7 +5,7 @@
  * side coverage); nt__geom: the straight edges the narrow phase and the map walk;
  * nt__polys: polygon tiles' faces for the narrow phase. Numbers are double
  * constants, converted to nt_real (float or double) at compile time. */
-#include "internal.h"
+#include "core_internal.h"
 
 const nt_tile_info nt__tiles[NT_TILE_COUNT] = {
     {"EMPTY", NT_CLASS_EMPTY, 0, 0, {0, 0}, 0,

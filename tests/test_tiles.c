@@ -15,7 +15,7 @@
 #include "ntile/ntile.h"
 #include "ref.h"
 /* The engine's internal tables, for the check that they agree with each other. */
-#include "../src/internal.h"
+#include "../src/core_internal.h"
 
 #define NTILES 34
 

@@ -14,7 +14,7 @@
 #include "ntile/ntile.h"
 #include "ref.h"
 
-#include "../src/world_internal.h" /* the broad phase's pair list, for the brute-force comparison */
+#include "../src/simulation.h" /* the broad phase's pair list, for the brute-force comparison */
 
 static const nt_real DT = (nt_real)(1.0 / 60);
 

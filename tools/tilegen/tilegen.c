@@ -340,7 +340,7 @@ int tilegen_write(FILE *out)
                  " * side coverage); nt__geom: the straight edges the narrow phase and the map walk;\n"
                  " * nt__polys: polygon tiles' faces for the narrow phase. Numbers are double\n"
                  " * constants, converted to nt_real (float or double) at compile time. */\n"
-                 "#include \"internal.h\"\n\n");
+                 "#include \"core_internal.h\"\n\n");
     put_tiles(out, tiles, count);
     put_geom(out, tiles, count);
     put_polys(out, tiles, count);

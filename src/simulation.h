@@ -1,10 +1,10 @@
 /* The world simulation's internals: body, contact and world layouts, and the
  * functions world.c, response.c, grid.c, sleep.c, cast.c and character.c share. Not
  * installed. */
-#ifndef NT_WORLD_INTERNAL_H
-#define NT_WORLD_INTERNAL_H
+#ifndef NT_SIMULATION_H
+#define NT_SIMULATION_H
 
-#include "internal.h"
+#include "core_internal.h"
 #include "ntile/world.h" /* public: outside the hidden region */
 
 #if defined(__GNUC__)
@@ -397,4 +397,4 @@ static inline int nt__contact_is_live(const nt_world *w, const nt__contact *c)
 #pragma GCC visibility pop
 #endif
 
-#endif /* NT_WORLD_INTERNAL_H */
+#endif /* NT_SIMULATION_H */

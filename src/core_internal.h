@@ -1,9 +1,9 @@
 /* The engine's internal helpers, for every source of src/: scalar arithmetic (the
  * precision guard, nt_real's limits, vector helpers), asserts, the allocator hook,
  * the tile tables' types (tile_tables.c) and the tile map's layout (map.c).
- * The world's internals are in world_internal.h. Not installed. */
-#ifndef NT_INTERNAL_H
-#define NT_INTERNAL_H
+ * The world's internals are in simulation.h. Not installed. */
+#ifndef NT_CORE_INTERNAL_H
+#define NT_CORE_INTERNAL_H
 
 #include <math.h>
 #include <stdlib.h>
@@ -237,4 +237,4 @@ static inline int nt__floor_int(nt_real v)
 #pragma GCC visibility pop
 #endif
 
-#endif /* NT_INTERNAL_H */
+#endif /* NT_CORE_INTERNAL_H */
