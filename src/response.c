@@ -579,7 +579,15 @@ static void tile_solve(nt_world *w, nt__body *b)
         nt__tile_ct *t = &b->tc[k];
         t->solved = 1;
         t->lambda = 0;
-        if (nt__dot(b->v, t->n) >= 0) continue;
+        nt_real a = nt__dot(b->v, t->n);
+        if (a >= 0) continue;
+        /* Straight into the surface (a body resting on it, gravity along its normal):
+         * no tangential part for friction to take, no bounce; it stops. */
+        if (nt__dot(b->v, perp(t->n)) == 0) {
+            b->v = nt_v2(0, 0);
+            t->lambda = -a;
+            continue;
+        }
         nt_real f, e, dn;
         tile_material(w, b, t->material, &f, &e);
         b->v = respond(model, b->v, t->n, f, 0, &dn);

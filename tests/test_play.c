@@ -938,9 +938,13 @@ static void test_dead_player_drawn(void **state)
 
 /* Every kind of object in one small level, drawn at 1 pixel per unit with the camera
  * at its centre (world (x, y) is pixel (x, y)). */
-static const char *objects_level(bool player_in_exit)
+/* The objects level with the player at its start (0), in the exit (1) or on the
+ * switch (2). */
+static const char *objects_level(int where)
 {
-    const char *name = player_in_exit ? "objects-exit.ntl" : "objects.ntl";
+    static const char *const names[] = {"objects.ntl", "objects-exit.ntl", "objects-switch.ntl"};
+    static const char *const places[] = {"48 200", "432 200", "36 132"};
+    const char *name = names[where];
     char text[4096];
     snprintf(text, sizeof text,
              "ntile-level 1\nsize 20 10\ncell 24\nmaterial 1 0.05 0.9\ntiles\n"
@@ -965,8 +969,9 @@ static const char *objects_level(bool player_in_exit)
              "body m static circle 6 at 264 60 sensor deadly\n"
              "body plat kinematic box 12 4 at 120 120 path p\n"
              "body ball dynamic circle 5 at 360 60 template\n"
-             "spawner sp ball every 1000 limit 1\n",
-             player_in_exit ? "432 200" : "48 200");
+             "spawner sp ball every 1000 limit 1\n"
+             "region sw switch 24 120 48 144\n",
+             places[where]);
     scratch_write_text(name, text);
     return scratch_path(name);
 }
@@ -987,11 +992,24 @@ static void test_object_kinds(void **state)
     (void)state;
     const char *out = scratch_path("objects.bmp"), *out2 = scratch_path("objects-exit.bmp");
     const char *view[] = {"--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120", "--frames", "1"};
-    play_ok((const char *[]){objects_level(false), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+    play_ok((const char *[]){objects_level(0), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
                              view[9], "--screenshot", out, NULL});
-    play_ok((const char *[]){objects_level(true), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+    play_ok((const char *[]){objects_level(1), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
                              view[9], "--screenshot", out2, NULL});
-    image a = load_bmp(out), b = load_bmp(out2);
+    const char *out3 = scratch_path("objects-switch.bmp");
+    play_ok((const char *[]){objects_level(2), view[0], view[1], view[2], view[3], view[4], view[5], view[6], view[7], view[8],
+                             view[9], "--screenshot", out3, NULL});
+    image a = load_bmp(out), b = load_bmp(out2), sw = load_bmp(out3);
+    /* The switch (24..48, 120..144): a plate with a hollow button, and a label
+     * that says "on" once the player has pressed it (the player then hides the
+     * button). */
+    assert_true(count_color(&a, 24, 120, 49, 121, PG_COLOR_SWITCH) >= 20);
+    expect_pixel(&a, 36, 132, PG_COLOR_BG, "the unpressed switch's hollow button");
+    int label_off = count_color(&a, 24, 120 - PG_CHAR_H - 1, 90, 120, PG_COLOR_SWITCH);
+    int label_on = count_color(&sw, 24, 120 - PG_CHAR_H - 1, 90, 120, PG_COLOR_SWITCH);
+    assert_true(label_off > 20);
+    assert_true(label_on > label_off + 5); /* "SWITCH on" */
+    free(sw.px);
     /* Gold: a gold disc with a darker rim. */
     expect_pixel(&a, 216, 60, PG_COLOR_GOLD, "the gold's centre");
     assert_true(count_color(&a, 205, 49, 228, 72, PG_COLOR_GOLD_RIM) > 20);
@@ -1133,12 +1151,12 @@ static void test_spawn_free_and_eyedropper(void **state)
                                        "3 mouse down right 60 204\n3 mouse up right 60 204\n5 press F2\n");
     const char *saved = scratch_path("spawn-saved.ntl");
     run_result r;
-    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+    run_play(&r, (const char *[]){objects_level(0), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
                                   "--script", scratch_path("spawn.script"), "--frames", "8", "--save", saved, NULL});
     expect_status(&r, 0);
     run_free(&r);
     scratch_write_text("spawn2.script", "1 mouse down right 60 204\n1 mouse up right 60 204\n");
-    run_play(&r, (const char *[]){objects_level(false), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
+    run_play(&r, (const char *[]){objects_level(0), "--no-hud", "--size", "480x240", "--zoom", "1", "--center", "240", "120",
                                   "--script", scratch_path("spawn2.script"), "--frames", "4", NULL});
     expect_status(&r, 0);
     expect_in(r.out, "the player's spawn stays free: no tile over cell (2, 8)");

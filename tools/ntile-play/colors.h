@@ -28,6 +28,7 @@
 #define PG_COLOR_DOOR_OPEN 0x0c1a10u   /* the doorway once the level is complete */
 #define PG_COLOR_ONEWAY 0x5aa8e6u      /* one-way cells: top line and arrow */
 #define PG_COLOR_ZONE 0x8090a8u        /* zones: dashed outline and name */
+#define PG_COLOR_SWITCH 0xe0b030u      /* switches: a button, lit once pressed */
 #define PG_COLOR_BIN 0xe0c040u         /* score regions (bins) and their value */
 #define PG_COLOR_KILL 0xe04040u        /* kill regions */
 #define PG_COLOR_PATH 0x7c6cc8u        /* kinematic paths (dotted) */

@@ -371,6 +371,16 @@ static void draw_regions(rctx *r)
             pg_rect(c, x0, y0, x1, y1, PG_COLOR_KILL);
             pg_text(c, x0 + 2, y0 + 2, "KILL", PG_COLOR_KILL, 1);
             break;
+        case NT_REGION_SWITCH: {
+            /* A button on a plate: hollow until the player has pressed it, then lit. */
+            bool on = r->p->game && nt_game_switch_is_on(r->p->game, i);
+            int cx = (x0 + x1) / 2, cy = (y0 + y1) / 2, rad = (w < h ? w : h) / 3;
+            pg_rect(c, x0, y0, x1, y1, PG_COLOR_SWITCH);
+            if (on) pg_fill_circle(c, cx, cy, rad > 1 ? rad : 1, PG_COLOR_SWITCH);
+            else pg_circle(c, cx, cy, rad > 1 ? rad : 1, PG_COLOR_SWITCH);
+            pg_text(c, x0 + 2, y0 - PG_CHAR_H - 1, on ? "SWITCH on" : "SWITCH", PG_COLOR_SWITCH, 1);
+            break;
+        }
         default:
             dashed_rect(c, x0, y0, x1, y1, PG_COLOR_ZONE);
             pg_text(c, x0 + 3, y0 + 3, g->name, PG_COLOR_ZONE, 1);
