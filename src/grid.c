@@ -22,13 +22,13 @@
  * w->heads for level 0 and in w->lheads (cells of every coarser level, one after
  * the other) above. */
 #include <string.h>
-#include "core.h"
+#include "simulation.h"
 
 _Static_assert((1 << (NT__LEVELS - 2)) == NT_MAX_HALF_CELLS, "the coarsest level must hold the largest body");
 
 int nt__grid_level(const nt_world *w, nt_vec2 half)
 {
-    nt_real m = nt__max(half.x, half.y), lim = w->cell * R(0.5);
+    nt_real m = nt__max(half.x, half.y), lim = w->cell * (nt_real)0.5;
     int k = 0;
     while (m > lim && k < NT__LEVELS - 1) {
         lim *= 2;
@@ -261,7 +261,7 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
     nt_real vx = b->v.x - a->v.x, vy = b->v.y - a->v.y;
     /* Time since the overlap began along each axis (infinite when not approaching). */
     int ax = vx * dx < 0, ay = vy * dy < 0;
-    nt_real lim = R(0.5) * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
+    nt_real lim = (nt_real)0.5 * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
     int use_y;
     if (ax && ay) use_y = oy * nt__fabs(vx) < ox * nt__fabs(vy); /* oy/|vy| < ox/|vx| */
     else if (ay) use_y = 1;
@@ -269,10 +269,10 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
     else return;
     if ((use_y ? oy : ox) > lim) return;
     if (use_y) {
-        m->normal = nt_v2(0, dy > 0 ? R(-1) : R(1));
+        m->normal = nt_v2(0, dy > 0 ? (nt_real)(-1) : (nt_real)1);
         m->depth = oy;
     } else {
-        m->normal = nt_v2(dx > 0 ? R(-1) : R(1), 0);
+        m->normal = nt_v2(dx > 0 ? (nt_real)(-1) : (nt_real)1, 0);
         m->depth = ox;
     }
 }
@@ -309,10 +309,10 @@ static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t 
         nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
         /* Apart on at least one axis: the axis with the larger gap bounds the distance. */
         if (ox < oy) {
-            *n = nt_v2(dx > 0 ? R(1) : R(-1), 0);
+            *n = nt_v2(dx > 0 ? (nt_real)1 : (nt_real)(-1), 0);
             d = ox;
         } else {
-            *n = nt_v2(0, dy > 0 ? R(1) : R(-1));
+            *n = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
             d = oy;
         }
     } else if (a->shape == NT_SHAPE_CIRCLE && b->shape == NT_SHAPE_CIRCLE) {
@@ -327,7 +327,7 @@ static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t 
         nt_real vx = cx - nt__clamp(cx, -box->half.x, box->half.x), vy = cy - nt__clamp(cy, -box->half.y, box->half.y);
         nt_real len = nt__sqrt(vx * vx + vy * vy);
         if (len <= 0) return 0;
-        nt_real s = box == a ? R(1) : R(-1);
+        nt_real s = box == a ? (nt_real)1 : (nt_real)(-1);
         *n = nt_v2(s * vx / len, s * vy / len);
         d = cir->half.x - len;
     }
@@ -374,8 +374,8 @@ static inline int boxes_near(const nt_world *w, nt_vec2 pa, nt_vec2 ha, nt_vec2 
 NT__NOINLINE static int one_way_holds(const nt_world *w, const nt__body *a, const nt__body *b, nt_vec2 n, nt_real depth)
 {
     if (depth > w->pair_margin) return 0;
-    if (a->one_way && !(n.y <= R(-0.5))) return 0;
-    if (b->one_way && !(n.y >= R(0.5))) return 0;
+    if (a->one_way && !(n.y <= (nt_real)(-0.5))) return 0;
+    if (b->one_way && !(n.y >= (nt_real)0.5)) return 0;
     return 1;
 }
 
@@ -487,7 +487,7 @@ static nt_status build_proxies(nt_world *w, int *count)
     /* Only the digits in use: a small world's step does not pay for clearing 64 KiB. */
     memset(c0, 0, digits * sizeof *c0);
     memset(c1, 0, digits * sizeof *c1);
-    const nt_real half_margin = R(0.5) * w->pair_margin, dt = w->pair_dt, cell = w->cell;
+    const nt_real half_margin = (nt_real)0.5 * w->pair_margin, dt = w->pair_dt, cell = w->cell;
     nt__proxy *src = w->prox_tmp;
     int n = 0;
     for (int k = 0; k < w->awake_count; k++) {
@@ -496,7 +496,7 @@ static nt_status build_proxies(nt_world *w, int *count)
         if (b->gcell < 0 || (b->flags & NT__BF_LARGE)) continue; /* coarser levels: large_pairs */
         nt__proxy *q = &src[n++];
         /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
-        nt_real slack = R(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * (R(16) * NT_REAL_EPS);
+        nt_real slack = (nt_real)(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * ((nt_real)16 * NT_REAL_EPS);
         nt_real ex = b->half.x + slack + nt__min(half_margin + nt__fabs(b->v.x) * dt, cell);
         nt_real ey = b->half.y + slack + nt__min(half_margin + nt__fabs(b->v.y) * dt, cell);
         q->lo = nt_v2(b->p.x - ex, b->p.y - ey);
@@ -512,7 +512,7 @@ static nt_status build_proxies(nt_world *w, int *count)
          * after the move instead (correct_after_move, response.c). */
         nt_real fx = b->p.x * w->inv_cell - (nt_real)(cellix % gw), fy = b->p.y * w->inv_cell - (nt_real)(cellix / gw);
         nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
-        if (rx > R(1.5) || ry > R(1.5)) {
+        if (rx > (nt_real)1.5 || ry > (nt_real)1.5) {
             w->bodies[i].motion |= NT__MF_KICKED;
             w->kicked_count++;
         }
@@ -634,7 +634,7 @@ static int large_pairs_of(nt_world *w, int32_t i, int *tests)
             if (!want) continue;
         }
         level_view v = view_of(w, lv);
-        nt_real ex = b->half.x + R(0.5) * v.size + w->cell, ey = b->half.y + R(0.5) * v.size + w->cell;
+        nt_real ex = b->half.x + (nt_real)0.5 * v.size + w->cell, ey = b->half.y + (nt_real)0.5 * v.size + w->cell;
         int r[4];
         view_range(&v, nt_v2(b->p.x - ex, b->p.y - ey), nt_v2(b->p.x + ex, b->p.y + ey), r);
         int ok = lv ? scan_lists(w, i, w->loccupied, w->lheads, (uint32_t)w->lbase[lv], v.w, r, want, lv == own, tests)
@@ -747,7 +747,7 @@ int nt__grid_overlapping(const nt_world *w, int32_t i, int32_t *out, int cap)
     for (int lv = 0; lv < NT__LEVELS; lv++) {
         if (lv > 0 && (!w->large_count || !w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1]))) continue;
         level_view v = view_of(w, lv);
-        nt_real m = v.size * R(0.5);
+        nt_real m = v.size * (nt_real)0.5;
         int r[4];
         view_range(&v, nt_v2(b->p.x - b->half.x - m, b->p.y - b->half.y - m),
                    nt_v2(b->p.x + b->half.x + m, b->p.y + b->half.y + m), r);
@@ -769,7 +769,7 @@ void nt__grid_visit(const nt_world *w, nt_vec2 lo, nt_vec2 hi, nt__visit_fn *fn,
         if (lv > 0 && (!w->lheads || !(w->lcount[lv][0] | w->lcount[lv][1]))) continue;
         /* A body reaches half its level's cell beyond its cell. */
         level_view v = view_of(w, lv);
-        nt_real m = v.size * R(0.5);
+        nt_real m = v.size * (nt_real)0.5;
         int r[4];
         view_range(&v, nt_v2(lo.x - m, lo.y - m), nt_v2(hi.x + m, hi.y + m), r);
         for (int y = r[1]; y <= r[3]; y++)

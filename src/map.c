@@ -1,7 +1,7 @@
 /* The tile map: cells, N's edge states, and resolution (freeing an object from
  * every tile it overlaps by the shortest way out of their union). */
 #include <string.h>
-#include "core.h"
+#include "core_internal.h"
 
 nt_map_def nt_default_map_def(void)
 {
@@ -396,7 +396,7 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
 static inline nt_real free_tolerance(nt_vec2 p)
 {
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
-    return R(16) * NT_REAL_EPS * nt__max(R(1), mag);
+    return (nt_real)16 * NT_REAL_EPS * nt__max((nt_real)1, mag);
 }
 
 static int is_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
@@ -407,8 +407,8 @@ static int is_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 /* Free up to rounding only: for searches that converge onto the contact. */
 static int is_free_strict(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
-    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    return depth_at(map, p, shape, h) <= R(8) * NT_REAL_EPS * mag;
+    nt_real mag = nt__max((nt_real)1, nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    return depth_at(map, p, shape, h) <= (nt_real)8 * NT_REAL_EPS * mag;
 }
 
 /* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
@@ -448,7 +448,7 @@ static int probe_free(const probe *o, nt_vec2 p) { return big_free(o->map, p, o-
 static int corner(const cand *a, const cand *b, nt_vec2 *d)
 {
     nt_real det = a->nx * b->ny - a->ny * b->nx;
-    if (nt__fabs(det) < R(1e-3)) return 0;
+    if (nt__fabs(det) < (nt_real)(1e-3)) return 0;
     d->x = (a->depth * b->ny - b->depth * a->ny) / det;
     d->y = (b->depth * a->nx - a->depth * b->nx) / det;
     return 1;
@@ -490,9 +490,9 @@ static int shortest_freeing(const probe *o, nt_vec2 p, const cand *cs, int nc, n
     const mview *map = o->map;
     const nt_shape shape = o->shape;
     const nt_vec2 h = o->h;
-    nt_real mag = nt__max(R(1), nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    nt_real floor_len = lb - R(8) * NT_REAL_EPS * mag;
-    nt_real max_corner = big ? NT_REAL_MAX : R(1.5);
+    nt_real mag = nt__max((nt_real)1, nt__max(nt__fabs(p.x), nt__fabs(p.y)));
+    nt_real floor_len = lb - (nt_real)8 * NT_REAL_EPS * mag;
+    nt_real max_corner = big ? NT_REAL_MAX : (nt_real)1.5;
     int order[BIG_CANDS];
     for (int i = 0; i < nc; i++) order[i] = i;
     for (int i = 1; i < nc; i++)
@@ -583,7 +583,7 @@ static int best_candidate(const probe *o, nt_vec2 p, const gathered *g, nt_resol
                  * tile beside a slope). Past resting depth the bound is then the
                  * deepest plain (unmasked) overlap, and the caller enumerates the
                  * curves within reach when the push is longer than that. */
-                if (lb < 0 && *lower > R(0.01)) {
+                if (lb < 0 && *lower > (nt_real)0.01) {
                     nt_real plain = 0;
                     for (int i = 0; i < nc; i++) {
                         nt_mtv m;
@@ -736,7 +736,7 @@ static int cross(const feat *a, const feat *b, nt_vec2 pts[2])
 {
     if (!a->circle && !b->circle) {
         nt_real det = a->nx * b->ny - a->ny * b->nx;
-        if (nt__fabs(det) < R(1e-6)) return 0;
+        if (nt__fabs(det) < (nt_real)(1e-6)) return 0;
         pts[0] = nt_v2((a->e * b->ny - b->e * a->ny) / det, (a->nx * b->e - b->nx * a->e) / det);
         return 1;
     }
@@ -830,11 +830,11 @@ static int enumerate(const mview *map, nt_vec2 c, nt_shape shape, nt_vec2 h, nt_
 static int search_directions(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_vec2 *d)
 {
     enum { DIRS = 64, STEPS = 48 };
-    const nt_real reach = R(1.5);
+    const nt_real reach = (nt_real)1.5;
     nt_real best = NT_REAL_MAX;
     int found = 0;
     for (int k = 0; k < DIRS; k++) {
-        nt_real a = (nt_real)k * R(6.283185307179586 / DIRS);
+        nt_real a = (nt_real)k * (nt_real)(6.283185307179586 / DIRS);
         nt_cos_sin cs = nt_compute_cos_sin((double)a);
         nt_real ux = (nt_real)cs.cosine, uy = (nt_real)cs.sine;
         nt_real lo = 0, hi = -1;
@@ -850,7 +850,7 @@ static int search_directions(const mview *map, nt_vec2 p, nt_shape shape, nt_vec
         if (hi < 0) continue;
         if (!is_free_strict(map, nt_v2(p.x + ux * hi, p.y + uy * hi), shape, h)) lo = hi, hi = hi + reach / STEPS;
         for (int it = 0; it < 32; it++) {
-            nt_real mid = R(0.5) * (lo + hi);
+            nt_real mid = (nt_real)0.5 * (lo + hi);
             if (is_free_strict(map, nt_v2(p.x + ux * mid, p.y + uy * mid), shape, h)) hi = mid;
             else lo = mid;
         }
@@ -885,7 +885,7 @@ static nt_vec2 escape(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
         for (int y = cy - ring; y <= cy + ring; y++)
             for (int x = cx - ring; x <= cx + ring; x += (y == cy - ring || y == cy + ring || ring == 0) ? 1 : 2 * ring) {
                 if (vtile(map, x, y) != NT_TILE_EMPTY) continue;
-                nt_vec2 c = nt_v2((nt_real)x + R(0.5), (nt_real)y + R(0.5));
+                nt_vec2 c = nt_v2((nt_real)x + (nt_real)0.5, (nt_real)y + (nt_real)0.5);
                 nt_real dist = nt__len(nt__sub(c, p));
                 if (dist < best) {
                     best = dist;
@@ -1198,7 +1198,7 @@ static int big_enumerate(const probe *o, nt_vec2 c, nt_real reach, nt_resolution
     all.heap = NULL;
     all.cap = BIG_FEATS;
     /* Out of memory: look less far (exact within the smaller reach). */
-    while (!big_features(o, c, reach, &all)) reach *= R(0.5);
+    while (!big_features(o, c, reach, &all)) reach *= (nt_real)0.5;
     big_search s;
     s.o = o;
     s.c = c;
@@ -1231,7 +1231,7 @@ static int big_enumerate(const probe *o, nt_vec2 c, nt_real reach, nt_resolution
 static nt_real clamp_in(nt_real v, nt_real half, int s0, int s1)
 {
     nt_real lo = (nt_real)s0 + half, hi = (nt_real)s1 - half;
-    return lo > hi ? R(0.5) * ((nt_real)s0 + (nt_real)s1) : nt__clamp(v, lo, hi);
+    return lo > hi ? (nt_real)0.5 * ((nt_real)s0 + (nt_real)s1) : nt__clamp(v, lo, hi);
 }
 
 /* Last resort (cf. escape), sized for the object: centres that put it in the middle
@@ -1246,8 +1246,8 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
     if (probe_free(o, q)) return 1;
     int cx = (int)nt__clamp(nt__floor(q.x), (nt_real)VX0(map), (nt_real)(VX1(map) - 1));
     int cy = (int)nt__clamp(nt__floor(q.y), (nt_real)VY0(map), (nt_real)(VY1(map) - 1));
-    const nt_real ox[6] = {R(0.5), h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, R(0.25), R(0.75)};
-    const nt_real oy[6] = {R(0.5), h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, R(0.25), R(0.75)};
+    const nt_real ox[6] = {(nt_real)0.5, h.x - nt__floor(h.x), 1 - (h.x - nt__floor(h.x)), 0, (nt_real)0.25, (nt_real)0.75};
+    const nt_real oy[6] = {(nt_real)0.5, h.y - nt__floor(h.y), 1 - (h.y - nt__floor(h.y)), 0, (nt_real)0.25, (nt_real)0.75};
     nt_real best = NT_REAL_MAX;
     /* A centre in ring r covers cells within ceil(h) + 1 of its own: while that stays
      * short of the nearest block with a cell that is not FULL, the object overlaps
@@ -1279,7 +1279,7 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
 NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
 {
     const probe obj = {map, shape, h}, *o = &obj;
-    const nt_real far_x = R(1.5) + h.x, far_y = R(1.5) + h.y;
+    const nt_real far_x = (nt_real)1.5 + h.x, far_y = (nt_real)1.5 + h.y;
     nt_vec2 d;
     if (p.x < (nt_real)VX0(map) - far_x || p.y < (nt_real)VY0(map) - far_y || p.x > (nt_real)VX1(map) + far_x ||
         p.y > (nt_real)VY1(map) + far_y) {
@@ -1312,7 +1312,7 @@ NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape
         int fx = (int)nt__clamp(nt__floor(p.x) + (nt_real)map->ox, -8, (nt_real)map->map->w + 8);
         int fy = (int)nt__clamp(nt__floor(p.y) + (nt_real)map->oy, -8, (nt_real)map->map->h + 8);
         int near_open = nearest_block(map->map, map->map->blk_open, fx, fy, (int)all + 2 * hc);
-        if (!found || len > lb * R(1.000001) + R(1e-6))
+        if (!found || len > lb * (nt_real)1.000001 + (nt_real)(1e-6))
             for (;;) {
                 nt_resolution e;
                 memset(&e, 0, sizeof e);
@@ -1355,7 +1355,7 @@ nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
     if (shape.type != NT_SHAPE_AABB && shape.type != NT_SHAPE_CIRCLE) return NT_ERR_INVALID_ARGUMENT;
     if (!nt__finite(shape.half.x) || !nt__finite(shape.half.y)) return NT_ERR_NON_FINITE;
     if (shape.half.x < 0 || shape.half.y < 0) return NT_ERR_INVALID_ARGUMENT;
-    nt_real cap = map->cell * R(NT_MAX_HALF_CELLS);
+    nt_real cap = map->cell * (nt_real)NT_MAX_HALF_CELLS;
     if (shape.half.x > cap || shape.half.y > cap) return NT_ERR_SHAPE_TOO_LARGE;
     return NT_OK;
 }
@@ -1375,7 +1375,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     const mview view = local_view(map, pos, &p), *vm = &view;
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
     if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
-    if (h.x > R(0.5) || h.y > R(0.5)) {
+    if (h.x > (nt_real)0.5 || h.y > (nt_real)0.5) {
         if (!resolve_big(vm, p, shape, h, &res)) return false;
         to_world(&res, vm, cell);
         if (out) *out = res;
@@ -1405,8 +1405,8 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     int found = best_candidate(&obj, p, &g, &res, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
-    nt_real len = found ? nt__len(res.push) : R(0.8);
-    if (!found || len > lower * R(1.000001) + R(1e-6)) {
+    nt_real len = found ? nt__len(res.push) : (nt_real)0.8;
+    if (!found || len > lower * (nt_real)1.000001 + (nt_real)(1e-6)) {
         nt_resolution e;
         memset(&e, 0, sizeof e);
         if (enumerate(vm, p, shape, h, len, &e)) {
@@ -1424,14 +1424,14 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         int fy = (int)nt__clamp(nt__floor(p.y) + (nt_real)vm->oy, -8, (nt_real)map->h + 8);
         int near_open = nearest_block(map, map->blk_open, fx, fy, 4);
         int hopeless = (near_open < 0 || near_open > 4) &&
-                       nt__min(h.x, h.y) > R(2) * free_tolerance(nt_v2(nt__fabs(p.x) + 2, nt__fabs(p.y) + 2));
+                       nt__min(h.x, h.y) > (nt_real)2 * free_tolerance(nt_v2(nt__fabs(p.x) + 2, nt__fabs(p.y) + 2));
         if (hopeless || !search_directions(vm, p, shape, h, &d) || nt__len(e) < nt__len(d)) d = e;
         nt_real l = nt__len(d);
         /* Deeper than the exact search reached: the sampled way out bounds the
          * shortest, which the exact search then finds within that reach. */
         nt_resolution x;
         memset(&x, 0, sizeof x);
-        if (l > R(0.8) && l < R(2) && enumerate(vm, p, shape, h, l * R(1.0001) + R(1e-6), &x)) {
+        if (l > (nt_real)0.8 && l < (nt_real)2 && enumerate(vm, p, shape, h, l * (nt_real)1.0001 + (nt_real)(1e-6), &x)) {
             res = x;
         } else {
             res.push = d;
@@ -1454,7 +1454,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
  * tile's bounds along either axis: the routines list those pushes as candidates and
  * take the shortest (POLYGON tiles with these very sums; the round ones in a mirrored
  * frame, equal to within a few units in the last place of 1, hence the margin). */
-/* The glide test (core.h). Only flat (polygon) tiles: the normal of a curve turns as
+/* The glide test (core_internal.h). Only flat (polygon) tiles: the normal of a curve turns as
  * the object moves along it. Pushing along n by the deepest depth frees the object from
  * every one of those convex tiles, so no way out of their union is needed: the object
  * stays where it is, within the skin, which is what the full resolution followed by
@@ -1469,7 +1469,7 @@ bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_
     nt_vec2 p;
     const mview view = local_view(map, pos, &p), *vm = &view;
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
-    if (!(h.x <= R(0.5) && h.y <= R(0.5)) || !nt__finite(p.x) || !nt__finite(p.y)) return false;
+    if (!(h.x <= (nt_real)0.5 && h.y <= (nt_real)0.5) || !nt__finite(p.x) || !nt__finite(p.y)) return false;
     lo *= ic;
     hi *= ic;
     int x0, y0, x1, y1;
@@ -1485,7 +1485,7 @@ bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_
             nt_mtv m;
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, cell.seams, &m);
             if (r == NT__SEPARATE) continue;
-            if (r != NT__PUSH || nt__tiles[t].cls != NT_CLASS_POLYGON || !(nt__dot(m.normal, n) > R(0.999)) ||
+            if (r != NT__PUSH || nt__tiles[t].cls != NT_CLASS_POLYGON || !(nt__dot(m.normal, n) > (nt_real)0.999) ||
                 !(m.depth >= lo && m.depth <= hi))
                 return false;
             if (m.depth > deepest) {
@@ -1510,7 +1510,7 @@ int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape_
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
-    nt_real round_limit = limit * ic - R(1e-5);
+    nt_real round_limit = limit * ic - (nt_real)(1e-5);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             int t = vtile(&view, x, y);

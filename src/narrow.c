@@ -10,7 +10,7 @@
  * Round tiles are solved in their canonical `pn` orientation: the object's centre
  * is mirrored into it (boxes and circles are symmetric) and the normal mirrored back.
  */
-#include "core.h"
+#include "core_internal.h"
 
 #define SIDE_BIT(s) (1u << (s))
 
@@ -171,10 +171,10 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
         int horiz = px == c.x; /* the nearest face is horizontal (top or bottom) */
         if (horiz) {
             if (!(st > 0 ? open_t : open_b)) return NT__MASKED;
-            return push_out(r - nt__max(st, sb), 0, st > 0 ? R(-1) : R(1), 0, 0, out);
+            return push_out(r - nt__max(st, sb), 0, st > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, out);
         }
         if (!(sl > 0 ? open_l : open_r)) return NT__MASKED;
-        return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);
+        return push_out(r - nt__max(sl, sr), sl > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, 0, out);
     } else if (px != c.x && py != c.y) {
         /* A corner of B (a tile vertex). Where one of its two faces is a seam, the
          * neighbour's solid continues the other face past the corner: the corner is
@@ -185,10 +185,10 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
          * of a circle clear of the corner is one its neighbour gives anyway, and
          * recorded replays keep it.) */
         nt_real cx = c.x - px, cy = c.y - py;
-        if (r > R(0.5) && cx * cx + cy * cy >= r * r) return NT__SEPARATE;
+        if (r > (nt_real)0.5 && cx * cx + cy * cy >= r * r) return NT__SEPARATE;
         if (!v_open && !h_open) return NT__MASKED;
-        if (!v_open) return push_out(r - nt__max(st, sb), 0, st > 0 ? R(-1) : R(1), 0, 0, out);
-        if (!h_open) return push_out(r - nt__max(sl, sr), sl > 0 ? R(-1) : R(1), 0, 0, 0, out);
+        if (!v_open) return push_out(r - nt__max(st, sb), 0, st > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, out);
+        if (!h_open) return push_out(r - nt__max(sl, sr), sl > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, 0, out);
     }
     nt_real vx = c.x - px, vy = c.y - py;
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
@@ -562,7 +562,7 @@ NT__NOINLINE static int circle_concave_large(int tile, nt_vec2 c, nt_real r, uns
     canon k = to_canon(tile, c, mask);
     /* Free within the tolerance that the candidates below are held to: a touching
      * centre a rounding error inside is its own foot, a move of length 0. */
-    nt_real tol = R(4) * NT_REAL_EPS * (2 + r);
+    nt_real tol = (nt_real)4 * NT_REAL_EPS * (2 + r);
     if (concave_dist(k.x, k.y) >= r - tol) return NT__SEPARATE;
     curve cv[8];
     int n = 0;
@@ -591,7 +591,7 @@ NT__NOINLINE static int circle_concave_large(int tile, nt_vec2 c, nt_real r, uns
  * disc, so the smallest candidate is the way out and none positive means free. */
 NT__SCALAR static int circle_concave(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
-    if (r > R(0.5)) return circle_concave_large(tile, c, r, mask, out);
+    if (r > (nt_real)0.5) return circle_concave_large(tile, c, r, mask, out);
     canon k = to_canon(tile, c, 0);
     nt_real x = k.x, y = k.y;
     if (mask | (y <= 0) | (x >= 1) | ((x <= 0) & (y >= 1))) return circle_concave_general(tile, c, r, mask, out);
@@ -668,10 +668,10 @@ bool nt_collide_aabbs(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb, nt_mtv *ou
     if (ox <= 0 || oy <= 0) return false;
     if (out) {
         if (oy <= ox || (dx == 0 && dy == 0)) {
-            out->normal = nt_v2(0, dy > 0 ? R(-1) : (dy < 0 ? R(1) : R(-1)));
+            out->normal = nt_v2(0, dy > 0 ? (nt_real)(-1) : (dy < 0 ? (nt_real)1 : (nt_real)(-1)));
             out->depth = oy;
         } else {
-            out->normal = nt_v2(dx > 0 ? R(-1) : R(1), 0);
+            out->normal = nt_v2(dx > 0 ? (nt_real)(-1) : (nt_real)1, 0);
             out->depth = ox;
         }
     }
@@ -713,10 +713,10 @@ static bool circle_out_of_box(nt_vec2 cc, nt_real r, nt_vec2 cb, nt_vec2 hb, nt_
     nt_real ox = hb.x - nt__fabs(dx) + r, oy = hb.y - nt__fabs(dy) + r;
     if (ox <= 0 || oy <= 0) return false;
     if (oy <= ox || (dx == 0 && dy == 0)) {
-        m->normal = nt_v2(0, dy > 0 ? R(1) : R(-1));
+        m->normal = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
         m->depth = oy;
     } else {
-        m->normal = nt_v2(dx < 0 ? R(-1) : R(1), 0);
+        m->normal = nt_v2(dx < 0 ? (nt_real)(-1) : (nt_real)1, 0);
         m->depth = ox;
     }
     return true;

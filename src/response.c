@@ -21,7 +21,7 @@
  * appearing and closing. */
 #include <string.h>
 #include <time.h>
-#include "core.h"
+#include "simulation.h"
 
 #define skin_at nt__skin
 
@@ -119,19 +119,6 @@ static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_
     for (int i = 0; i < n; i++) dst[i] = src[a[2 * i + 1]];
 }
 
-/* Room for `need` elements in the array whose pointer is at arr_p (`count` in use,
- * *cap allocated): false when out of memory, the array then unchanged. */
-static bool reserve(void *arr_p, int count, int *cap, int need, size_t elem)
-{
-    if (need <= *cap) return true;
-    void *old;
-    memcpy(&old, arr_p, sizeof old);
-    void *p = nt__grow(old, count, cap, need, elem);
-    if (!p) return false;
-    memcpy(arr_p, &p, sizeof p);
-    return true;
-}
-
 static void end_event(nt_world *w, const nt__contact *c)
 {
     int32_t a = key_a(c->key), b = key_b(c->key);
@@ -179,10 +166,10 @@ static void begin_event(nt_world *w, const nt__contact *c)
 static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *c)
 {
     const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
-    if (a->shape != NT_SHAPE_AABB || b->shape != NT_SHAPE_AABB || nt__dot(o->n, c->n) > R(0.5)) return;
+    if (a->shape != NT_SHAPE_AABB || b->shape != NT_SHAPE_AABB || nt__dot(o->n, c->n) > (nt_real)0.5) return;
     if (o->n.x != 0 && o->n.y != 0) return;
     nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
-    nt_real lim = R(0.5) * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
+    nt_real lim = (nt_real)0.5 * nt__min(nt__min(a->half.x, a->half.y), nt__min(b->half.x, b->half.y));
     if (o->n.x == 0) {
         nt_real oy = a->half.y + b->half.y - nt__fabs(dy);
         if (oy > lim || (dy > 0) != (o->n.y > 0)) return;
@@ -232,8 +219,8 @@ static nt_status collide(nt_world *w, nt_real dt)
     /* Room for everything this step can produce (the merge keeps con and con_tmp
      * interchangeable, and unparking needs con_count + parked_live). */
     int need = nn + no + w->parked_live;
-    bool ok = reserve(&w->con, w->con_count, &w->con_cap, need, sizeof *w->con);
-    ok = ok && reserve(&w->con_tmp, 0, &w->con_tmp_cap, need, sizeof *w->con_tmp);
+    bool ok = nt__reserve(&w->con, w->con_count, &w->con_cap, need, sizeof *w->con);
+    ok = ok && nt__reserve(&w->con_tmp, 0, &w->con_tmp_cap, need, sizeof *w->con_tmp);
     if (!ok) return NT_ERR_OUT_OF_MEMORY;
     /* Parked slots for this step's parking. Emptied slots make room first once they
      * are a quarter of all (compacting costs every slot: not at every wake); else the
@@ -246,16 +233,16 @@ static nt_status collide(nt_world *w, nt_real dt)
         pneed = w->parked_count + no;
     }
     if (pneed > w->parked_cap) pneed += pneed / 2;
-    ok = reserve(&w->parked, w->parked_count, &w->parked_cap, pneed, sizeof *w->parked);
-    ok = ok && reserve(&w->park_link, w->parked_count, &w->park_link_cap, pneed, sizeof *w->park_link);
-    ok = ok && reserve(&w->park_pick, 0, &w->park_pick_cap, pneed, sizeof *w->park_pick);
-    ok = ok && reserve(&w->ev_begin, 0, &w->cap_begin, nn, sizeof *w->ev_begin);
-    ok = ok && reserve(&w->ev_end, 0, &w->cap_end, no, sizeof *w->ev_end);
-    ok = ok && reserve(&w->ev_sbegin, 0, &w->cap_sbegin, nn, sizeof *w->ev_sbegin);
-    ok = ok && reserve(&w->ev_send, 0, &w->cap_send, no, sizeof *w->ev_send);
-    ok = ok && reserve(&w->ev_hit, 0, &w->cap_hit, w->awake_count + nn, sizeof *w->ev_hit);
-    ok = ok && reserve(&w->sort_keys, 0, &w->sort_cap, 4 * nn, sizeof *w->sort_keys);
-    ok = ok && reserve(&w->adj, 0, &w->adj_cap, 2 * need, sizeof *w->adj);
+    ok = nt__reserve(&w->parked, w->parked_count, &w->parked_cap, pneed, sizeof *w->parked);
+    ok = ok && nt__reserve(&w->park_link, w->parked_count, &w->park_link_cap, pneed, sizeof *w->park_link);
+    ok = ok && nt__reserve(&w->park_pick, 0, &w->park_pick_cap, pneed, sizeof *w->park_pick);
+    ok = ok && nt__reserve(&w->ev_begin, 0, &w->cap_begin, nn, sizeof *w->ev_begin);
+    ok = ok && nt__reserve(&w->ev_end, 0, &w->cap_end, no, sizeof *w->ev_end);
+    ok = ok && nt__reserve(&w->ev_sbegin, 0, &w->cap_sbegin, nn, sizeof *w->ev_sbegin);
+    ok = ok && nt__reserve(&w->ev_send, 0, &w->cap_send, no, sizeof *w->ev_send);
+    ok = ok && nt__reserve(&w->ev_hit, 0, &w->cap_hit, w->awake_count + nn, sizeof *w->ev_hit);
+    ok = ok && nt__reserve(&w->sort_keys, 0, &w->sort_cap, 4 * nn, sizeof *w->sort_keys);
+    ok = ok && nt__reserve(&w->adj, 0, &w->adj_cap, 2 * need, sizeof *w->adj);
     if (!ok) return NT_ERR_OUT_OF_MEMORY;
 
     /* Committed: nothing below allocates. */
@@ -284,7 +271,7 @@ static nt_status collide(nt_world *w, nt_real dt)
             if (o->gen_a == c->gen_a && o->gen_b == c->gen_b) {
                 if (c->flags & NT__CF_TOUCH) keep_box_axis(w, o, c);
                 /* Warm start only while the normal holds. */
-                if (nt__dot(o->n, c->n) > R(0.95) && !(o->flags & NT__CF_BOUNCED)) {
+                if (nt__dot(o->n, c->n) > (nt_real)0.95 && !(o->flags & NT__CF_BOUNCED)) {
                     c->ln = o->ln;
                     c->lt = o->lt;
                 }
@@ -432,7 +419,7 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
     /* A body thinner than two skins would end wholly inside the surface: half its
      * thickness then. (Never so for bodies of a normal size: their bits are the same.) */
     nt_real hmin = nt__min(b->half.x, b->half.y);
-    if (skin * 2 > hmin) skin = R(0.5) * hmin;
+    if (skin * 2 > hmin) skin = (nt_real)0.5 * hmin;
     if (res->contact_count == 2) {
         /* p' = p - skin * c with c.n1 = c.n2 = 1. Between surfaces facing each other
          * (a pinch: normals more than 120 degrees apart) c is long, and skin * c would
@@ -442,7 +429,7 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
          * their recorded replays stay bit for bit the same.) */
         nt_vec2 n1 = res->contacts[0].normal, n2 = res->contacts[1].normal;
         nt_real det = n1.x * n2.y - n1.y * n2.x;
-        if (nt__fabs(det) > R(0.1)) {
+        if (nt__fabs(det) > (nt_real)0.1) {
             nt_vec2 c = nt_v2((n2.y - n1.y) / det, (n1.x - n2.x) / det);
             nt_real c2 = nt__dot(c, c);
             if (c2 > 4 && (b->flags & NT__BF_LARGE)) c = nt__scale(c, 2 / nt__sqrt(c2));
@@ -465,13 +452,13 @@ static inline nt_real body_skin(const nt_world *w, const nt__body *b)
 {
     nt_real skin = skin_at(w, b->p);
     nt_real hmin = nt__min(b->half.x, b->half.y);
-    return skin * 2 > hmin ? R(0.5) * hmin : skin;
+    return skin * 2 > hmin ? (nt_real)0.5 * hmin : skin;
 }
 
 /* How far from that depth a body may be and still count as held there (an eighth of
  * it): pushing it back to exactly the skin would move it by a rounding of its position
  * every step. */
-#define SKIN_BAND R(0.125)
+#define SKIN_BAND (nt_real)0.125
 
 /* True when every surface of the resolution holds the body within the band about the
  * skin's depth: where apply_push would leave it, up to rounding. */
@@ -493,7 +480,7 @@ static int glide(const nt_world *w, const nt__body *b, nt_vec2 p, nt_resolution 
 {
     if (!b->ntc || w->oneway_count || (b->flags & NT__BF_LARGE)) return 0;
     nt_vec2 n = b->tc[0].n;
-    if (b->ntc == 2 && !(nt__dot(b->tc[1].n, n) > R(0.999))) return 0;
+    if (b->ntc == 2 && !(nt__dot(b->tc[1].n, n) > (nt_real)0.999)) return 0;
     /* (A curve held it: its normal will have turned.) */
     if (nt__tiles[nt__map_tile(w->map, b->tc[0].cx, b->tc[0].cy)].cls != NT_CLASS_POLYGON) return 0;
     if (nt__dot(b->v, n) < 0) return 0;
@@ -518,7 +505,7 @@ static void store_tile_contacts(const nt_world *w, nt__body *b, const nt_resolut
         int t = nt__map_tile(w->map, res->contacts[k].cell_x, res->contacts[k].cell_y);
         if (nt__tiles[t].cls != NT_CLASS_POLYGON) continue;
         for (int j = 0; j < b->ntc; j++)
-            if (nt__dot(b->tc[j].n, keep[k]) > R(0.999)) keep[k] = b->tc[j].n;
+            if (nt__dot(b->tc[j].n, keep[k]) > (nt_real)0.999) keep[k] = b->tc[j].n;
     }
     b->ntc = (uint8_t)res->contact_count;
     for (int k = 0; k < res->contact_count; k++) {
@@ -566,7 +553,7 @@ static nt_vec2 clamp_surfaces(nt_vec2 v, const nt_vec2 *n, int count)
     }
     if (count == 2 && (active & 2)) {
         nt_real a = nt__dot(v, n[0]);
-        if (a < -R(1e-6) * nt__len(v)) v = nt_v2(0, 0);
+        if (a < -(nt_real)(1e-6) * nt__len(v)) v = nt_v2(0, 0);
     }
     return v;
 }
@@ -605,7 +592,7 @@ static void tile_solve(nt_world *w, nt__body *b)
 static const nt__tile_ct *answered(const nt__body *b, nt_vec2 n)
 {
     for (int k = 0; k < b->ntc; k++)
-        if (b->tc[k].solved && nt__dot(b->tc[k].n, n) > R(0.999)) return &b->tc[k];
+        if (b->tc[k].solved && nt__dot(b->tc[k].n, n) > (nt_real)0.999) return &b->tc[k];
     return NULL;
 }
 
@@ -758,7 +745,7 @@ static void build_contact_lists(nt_world *w)
 static inline int held(const nt__body *b, nt_vec2 dir)
 {
     for (int k = 0; k < b->ntc; k++)
-        if (nt__dot(b->tc[k].n, dir) < R(-0.1)) return 1;
+        if (nt__dot(b->tc[k].n, dir) < (nt_real)(-0.1)) return 1;
     return 0;
 }
 
@@ -1000,11 +987,11 @@ static void solve_tile_block(nt__stile *t, nt_vec2 *v)
     nt_vec2 v0 = nt__sub(*v, nt__add(nt__scale(n1, t->lambda[0]), nt__scale(n2, t->lambda[1])));
     nt_real b1 = nt__dot(v0, n1), b2 = nt__dot(v0, n2), c = nt__dot(n1, n2);
     nt_real x1 = 0, x2 = 0, det = 1 - c * c;
-    if (det > R(1e-6)) {
+    if (det > (nt_real)(1e-6)) {
         x1 = (-b1 + c * b2) / det;
         x2 = (-b2 + c * b1) / det;
     }
-    if (!(det > R(1e-6) && x1 >= 0 && x2 >= 0)) {
+    if (!(det > (nt_real)(1e-6) && x1 >= 0 && x2 >= 0)) {
         x1 = nt__max(-b1, 0);
         x2 = 0;
         if (b2 + c * x1 < 0) {
@@ -1125,7 +1112,7 @@ static void shock_pass(nt_world *w)
  * of this step (correct_after_move looks for those). */
 static inline int kicked_out(const nt_world *w, nt_vec2 v0, nt_vec2 v1, nt_real dt)
 {
-    nt_real m = w->pair_margin * R(0.5);
+    nt_real m = w->pair_margin * (nt_real)0.5;
     return (nt__max(v1.x, 0) - nt__max(v0.x, 0)) * dt > m || (nt__max(-v1.x, 0) - nt__max(-v0.x, 0)) * dt > m ||
            (nt__max(v1.y, 0) - nt__max(v0.y, 0)) * dt > m || (nt__max(-v1.y, 0) - nt__max(-v0.y, 0)) * dt > m;
 }
@@ -1253,7 +1240,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         /* Pairs the iterations left closing by more than half the base margin over the
          * step (a tall column under a heavy impact): the correction after the move
          * looks at their bodies' contacts. */
-        nt_real slack = R(0.5) * w->pair_margin / dt;
+        nt_real slack = (nt_real)0.5 * w->pair_margin / dt;
         for (int k = 0; k < w->con_count; k++) {
             const nt__contact *c = &w->con[k];
             if (c->meff <= 0) continue;
@@ -1340,12 +1327,12 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
     if (e <= 0) return 0;
     nt_vec2 vr = respond(w->def.friction_model, vc, n, f, e, &dn);
     nt_vec2 pc = nt__add(p0, nt__scale(d, tau));
-    nt_vec2 q = nt_v2(pc.x + (vr.x + R(0.5) * ga.x * left) * left, pc.y + (vr.y + R(0.5) * ga.y * left) * left);
+    nt_vec2 q = nt_v2(pc.x + (vr.x + (nt_real)0.5 * ga.x * left) * left, pc.y + (vr.y + (nt_real)0.5 * ga.y * left) * left);
     /* The way back must be free, but for the surface it left, within the skin (a
      * late, slow bounce ends a hair from it: rounding must not decide the path). */
     nt_resolution again;
     if (resolve_body(w, b, pc, q, &again) &&
-        (again.contact_count != 1 || nt__dot(again.contacts[0].normal, n) < R(0.999) ||
+        (again.contact_count != 1 || nt__dot(again.contacts[0].normal, n) < (nt_real)0.999 ||
          nt__dot(again.push, again.push) > skin_at(w, q) * skin_at(w, q)))
         return 0;
     b->p = q;
@@ -1370,7 +1357,7 @@ static inline nt_vec2 flight_gravity(const nt_world *w, const nt__body *b, nt_re
     nt_vec2 ga = nt_v2(w->def.gravity.x * b->gravity_scale, w->def.gravity.y * b->gravity_scale);
     /* Not when the parabola's bend is more than a step may move (huge gravity): the
      * speed limit holds the displacement, and v dt keeps within it. */
-    nt_real bend = R(0.5) * dt * dt, maxd = w->def.max_cells_per_step * w->cell;
+    nt_real bend = (nt_real)0.5 * dt * dt, maxd = w->def.max_cells_per_step * w->cell;
     if (!(nt__fabs(ga.x) * bend <= maxd && nt__fabs(ga.y) * bend <= maxd)) ga = nt_v2(0, 0);
     return ga;
 }
@@ -1385,13 +1372,13 @@ static inline int fly_free(nt_world *w, nt__body *b, nt_real dt, int free_ok)
     if (b->ntc || (b->motion & NT__MF_SHIFT)) return 0;
     nt_vec2 disp = nt__scale(b->v, dt);
     nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
-    if (!(d2 < R(0.98) * hmin * hmin)) {
+    if (!(d2 < (nt_real)0.98 * hmin * hmin)) {
         nt_real dist = nt__sqrt(d2);
         if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) return 0;
     }
     nt_vec2 ga = flight_gravity(w, b, dt, free_ok), d = disp;
     if (ga.x != 0 || ga.y != 0) {
-        nt_real h = dt / (nt_real)1, back = dt - R(0.5) * h; /* one substep, as move_dynamic computes it */
+        nt_real h = dt / (nt_real)1, back = dt - (nt_real)0.5 * h; /* one substep, as move_dynamic computes it */
         d = nt_v2((b->v.x - ga.x * back) * h, (b->v.y - ga.y * back) * h);
     }
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
@@ -1425,7 +1412,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     int n = 1;
     /* A step longer than the smaller half-size could skip a thin piece of tile. (The
      * square root only for steps near that length or longer: most are far shorter.) */
-    if (!(d2 < R(0.98) * hmin * hmin)) {
+    if (!(d2 < (nt_real)0.98 * hmin * hmin)) {
         nt_real dist = nt__sqrt(d2);
         if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) {
             nt_real q = dist / hmin;
@@ -1448,7 +1435,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
     int flying = ga.x != 0 || ga.y != 0;
     for (int s = 0; s < n; s++) {
         nt_vec2 p0 = b->p;
-        nt_real back = flying ? dt - ((nt_real)s + R(0.5)) * h : 0;
+        nt_real back = flying ? dt - ((nt_real)s + (nt_real)0.5) * h : 0;
         /* The displacement itself, not p1 - p0: far from the origin that difference
          * keeps only a few bits of it. */
         nt_vec2 d = nt_v2((b->v.x - ga.x * back) * h, (b->v.y - ga.y * back) * h);

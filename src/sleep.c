@@ -5,7 +5,7 @@
  * (response.c) and the world's edits (world.c); calls only the broad phase (grid.c). */
 #include <stdlib.h>
 #include <string.h>
-#include "core.h"
+#include "simulation.h"
 
 static inline int32_t key_a(uint64_t k) { return (int32_t)(k >> 32); }
 static inline int32_t key_b(uint64_t k) { return (int32_t)(k & 0xffffffffu); }

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <stdatomic.h>
 #include <string.h>
-#include "core.h"
+#include "simulation.h"
 
 /* ---------------------------------------------------------------- helpers */
 
@@ -46,15 +46,15 @@ nt_world_def nt_default_world_def(void)
     d.map = nt_default_map_def();
     d.gravity = nt_v2(0, 320);
     d.friction_model = NT_FRICTION_N;
-    d.tile_material.friction = R(0.05);
-    d.tile_material.bounce = R(0.3);
+    d.tile_material.friction = (nt_real)0.05;
+    d.tile_material.bounce = (nt_real)0.3;
     d.restitution_threshold = 24;
     d.hit_event_threshold = 24;
     d.enable_sleep = true;
     d.sleep_speed = 6;
-    d.sleep_time = R(0.5);
+    d.sleep_time = (nt_real)0.5;
     d.max_cells_per_step = 4;
-    d.floor_angle = R(0.87266462599716477); /* 50 degrees */
+    d.floor_angle = (nt_real)0.87266462599716477; /* 50 degrees */
     d.velocity_iterations = 8;
     d.position_iterations = 4;
     d.body_capacity = 64;
@@ -76,7 +76,7 @@ static nt_status check_world_def(const nt_world_def *d)
         !nt__finite(d->sleep_speed) || !nt__finite(d->sleep_time) || !nt__finite(d->max_cells_per_step) ||
         !nt__finite(d->floor_angle))
         return NT_ERR_NON_FINITE;
-    if (d->floor_angle < 0 || d->floor_angle > R(1.5707963267948966)) return NT_ERR_INVALID_ARGUMENT;
+    if (d->floor_angle < 0 || d->floor_angle > (nt_real)1.5707963267948966) return NT_ERR_INVALID_ARGUMENT;
     if (d->friction_model != NT_FRICTION_N && d->friction_model != NT_FRICTION_COULOMB) return NT_ERR_INVALID_ARGUMENT;
     nt_status s = check_material(d, d->tile_material);
     if (s != NT_OK) return s;
@@ -438,8 +438,8 @@ nt_body_def nt_default_body_def(void)
     d.mass = 1;
     d.gravity_scale = 1;
     d.linear_drag = 0;
-    d.material.friction = R(0.05);
-    d.material.bounce = R(0.3);
+    d.material.friction = (nt_real)0.05;
+    d.material.bounce = (nt_real)0.3;
     d.category = 1;
     d.mask = 0xffffffffu;
     d.is_sensor = false;
@@ -466,7 +466,7 @@ static nt_status check_shape(const nt_world *w, nt_shape s)
  * reaching over the edge would be placed where the map cannot describe it. */
 static int fits_placement(const nt_world *w, nt_vec2 p, nt_vec2 half)
 {
-    nt_real lim = w->cell * R(0.5);
+    nt_real lim = w->cell * (nt_real)0.5;
     if (half.x <= lim && half.y <= lim) return 1;
     return p.x - half.x >= 0 && p.y - half.y >= 0 && p.x + half.x <= (nt_real)w->map->w * w->cell &&
            p.y + half.y <= (nt_real)w->map->h * w->cell;
@@ -555,7 +555,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     b->mask = def->mask;
     b->flags = NT__BF_ALIVE | (def->is_sensor ? NT__BF_SENSOR : 0) | (def->enable_sleep ? NT__BF_SLEEP_OK : 0) |
                (def->enable_hit_events ? NT__BF_HITS : 0) |
-               (def->shape.half.x > w->cell * R(0.5) || def->shape.half.y > w->cell * R(0.5) ? NT__BF_LARGE : 0);
+               (def->shape.half.x > w->cell * (nt_real)0.5 || def->shape.half.y > w->cell * (nt_real)0.5 ? NT__BF_LARGE : 0);
     b->awake_slot = -1;
     b->sleep_next = -1;
     b->one_way = def->is_one_way ? 1 : 0;
@@ -1049,7 +1049,7 @@ static int ray_body(const nt__body *b, nt_vec2 p0, nt_vec2 d, nt_real *t_out, nt
     }
     if (tenter > 1) return 0;
     *t_out = tenter;
-    *n_out = axis == 0 ? nt_v2(d.x > 0 ? R(-1) : R(1), 0) : nt_v2(0, d.y > 0 ? R(-1) : R(1));
+    *n_out = axis == 0 ? nt_v2(d.x > 0 ? (nt_real)(-1) : (nt_real)1, 0) : nt_v2(0, d.y > 0 ? (nt_real)(-1) : (nt_real)1);
     return 1;
 }
 
@@ -1101,7 +1101,7 @@ static void ray_walk(const nt_world *w, const ray_level *L, nt_vec2 p0, nt_vec2 
     nt_real tx = sx ? (((nt_real)cx + (sx > 0)) * size - p0.x) / d.x : NT_REAL_MAX;
     nt_real ty = sy ? (((nt_real)cy + (sy > 0)) * size - p0.y) / d.y : NT_REAL_MAX;
     nt_real len = nt__len(d);
-    nt_real reach = len > 0 ? R(2) * size / len : NT_REAL_MAX;
+    nt_real reach = len > 0 ? (nt_real)2 * size / len : NT_REAL_MAX;
     nt_real t_cell = t0;
     long guard = labs((long)ex - cx) + labs((long)ey - cy) + 2;
     for (long step = 0; step <= guard; step++) {
@@ -1397,16 +1397,16 @@ static void draw_world(const nt_world *w, const nt_debug_draw *dd)
             }
         }
         if (dd->draw_velocities && b->type != NT_BODY_STATIC)
-            draw_vector(dd, b->p, nt__scale(b->v, R(0.1)), 0x40c0c0u);
+            draw_vector(dd, b->p, nt__scale(b->v, (nt_real)0.1), 0x40c0c0u);
         if (dd->draw_velocity_split && b->ntc > 0 && b->type == NT_BODY_DYNAMIC) {
             /* Against the first surface: the part into/out of it and the part along it. */
             nt_vec2 n = b->tc[0].n;
             nt_vec2 vn = nt__scale(n, nt__dot(b->v, n)), vt = nt__sub(b->v, vn);
-            draw_vector(dd, b->p, nt__scale(vn, R(0.1)), 0xe04040u);
-            draw_vector(dd, b->p, nt__scale(vt, R(0.1)), 0x40e040u);
+            draw_vector(dd, b->p, nt__scale(vn, (nt_real)0.1), 0xe04040u);
+            draw_vector(dd, b->p, nt__scale(vt, (nt_real)0.1), 0x40e040u);
         }
         for (int k = 0; k < b->ntc; k++) {
-            if (dd->draw_tile_contacts) draw_vector(dd, b->p, nt__scale(b->tc[k].n, s * R(0.5)), 0xe08040u);
+            if (dd->draw_tile_contacts) draw_vector(dd, b->p, nt__scale(b->tc[k].n, s * (nt_real)0.5), 0xe08040u);
             if (dd->draw_projections)
                 draw_vector(dd, b->p, nt__scale(b->tc[k].n, b->tc[k].depth * dd->projection_scale), 0xffe040u);
         }
@@ -1416,9 +1416,9 @@ static void draw_world(const nt_world *w, const nt_debug_draw *dd)
             const nt__contact *c = &w->con[k];
             if (!nt__contact_is_live(w, c)) continue;
             const nt__body *a = &w->bodies[c->key >> 32], *b = &w->bodies[c->key & 0xffffffffu];
-            nt_vec2 mid = nt__scale(nt__add(a->p, b->p), R(0.5));
+            nt_vec2 mid = nt__scale(nt__add(a->p, b->p), (nt_real)0.5);
             if (dd->use_bounds && (mid.x < lo.x || mid.x > hi.x || mid.y < lo.y || mid.y > hi.y)) continue;
-            if (dd->draw_contacts) draw_vector(dd, mid, nt__scale(c->n, s * R(0.3)), 0xffffffu);
+            if (dd->draw_contacts) draw_vector(dd, mid, nt__scale(c->n, s * (nt_real)0.3), 0xffffffu);
             if (dd->draw_projections && c->depth > 0)
                 draw_vector(dd, mid, nt__scale(c->n, c->depth * dd->projection_scale), 0xffe040u);
         }
@@ -1428,7 +1428,7 @@ static void draw_world(const nt_world *w, const nt_debug_draw *dd)
         if (dd->draw_segment) dd->draw_segment(r->p0, end, r->hit ? 0xff6060u : 0x60ff60u, dd->context);
         if (r->hit) {
             if (dd->draw_point) dd->draw_point(r->result.point, 0xff6060u, dd->context);
-            draw_vector(dd, r->result.point, nt__scale(r->result.normal, s * R(0.5)), 0xff6060u);
+            draw_vector(dd, r->result.point, nt__scale(r->result.normal, s * (nt_real)0.5), 0xff6060u);
         }
     }
     if (dd->draw_stats && dd->draw_text) {

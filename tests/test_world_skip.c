@@ -4,7 +4,7 @@
  * (nt_world_counters.tile_resolutions), while their positions follow the analytic
  * path (the floor at its depth within the skin, x advancing by v dt, the slope's
  * line) and a wall or a curve at the end of a glide still stops or steers them. The
- * map-level glide test (core.h) is checked against the exact resolution,
+ * map-level glide test (core_internal.h) is checked against the exact resolution,
  * nt_map_resolve, at random places on every tile. Units: cell size 1, seconds;
  * y points down. */
 #include <stdarg.h>
@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "ntile/ntile.h"
-#include "../src/core.h"
+#include "../src/simulation.h"
 
 static const double DT = 1.0 / 60;
 /* The resting skin (response.c): 2.5e-4 cell at cell size 1 near the origin; a body
@@ -101,11 +101,11 @@ static void test_resting_bodies_need_no_resolution(void **state)
         }
         assert_int_equal(nt_body_create(w, &bd, &id[i]), NT_OK);
     }
-    for (int k = 0; k < 80; k++) assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    for (int k = 0; k < 80; k++) assert_int_equal(nt_world_step(w, (nt_real)(1.0 / 40)), NT_OK);
     nt_vec2 before[N];
     for (int i = 0; i < N; i++) before[i] = nt_body_get_position(w, id[i]);
     for (int k = 0; k < 50; k++) {
-        assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+        assert_int_equal(nt_world_step(w, (nt_real)(1.0 / 40)), NT_OK);
         assert_int_equal(resolutions(w), 0);
         for (int i = 0; i < N; i++) {
             nt_vec2 p = nt_body_get_position(w, id[i]);
@@ -141,7 +141,7 @@ static void test_open_air_needs_no_resolution(void **state)
         vy[i] = (nt_real)(0.2 - 0.05 * (i % 5));
         x[i] = (nt_real)(8 + i % 10 * 4 + 0.25);
         y[i] = (nt_real)(8 + i / 10 * 8 + 0.5);
-        nt_shape s = (i & 1) ? nt_shape_circle(R(0.3)) : nt_shape_aabb(R(0.4), R(0.25));
+        nt_shape s = (i & 1) ? nt_shape_circle((nt_real)0.3) : nt_shape_aabb((nt_real)0.4, (nt_real)0.25);
         id[i] = add_body(w, s, (double)x[i], (double)y[i], (double)vx[i], (double)vy[i]);
     }
     for (int k = 0; k < 120; k++) {
@@ -167,7 +167,7 @@ static void test_glide_along_floor_into_wall(void **state)
         nt_world *w = make_world(40, 6, 10);
         fill(w, 0, 5, 39, 5, NT_TILE_FULL);
         fill(w, 30, 0, 30, 4, NT_TILE_FULL);
-        nt_shape s = shape ? nt_shape_circle(R(0.3)) : nt_shape_aabb(R(0.4), R(0.3));
+        nt_shape s = shape ? nt_shape_circle((nt_real)0.3) : nt_shape_aabb((nt_real)0.4, (nt_real)0.3);
         double hx = (double)s.half.x, hy = (double)s.half.y;
         nt_body_id id = add_body(w, s, 2, 5 - hy, 6, 0);
         for (int k = 0; k < 5; k++) assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
