@@ -79,11 +79,11 @@ nt_status nt_level_create(int width, int height, nt_real cell_size, nt_level **o
     lv->cell_size = cell_size;
     lv->gravity = wd.gravity;
     lv->friction_model = wd.friction_model;
-    lv->sleep = wd.enable_sleep;
+    lv->enable_sleep = wd.enable_sleep;
     lv->seed = 1;
     for (int i = 0; i < NT_MAX_MATERIALS; i++) lv->materials[i] = wd.tile_material;
     lv->body_material = n_material();
-    lv->body_drag = 0;
+    lv->body_linear_drag = 0;
     *out = lv;
     return NT_OK;
 }
@@ -118,12 +118,12 @@ nt_level_body nt_level_default_body(const nt_level *lv)
     b.shape = nt_shape_aabb(6, 6);
     b.mass = 1;
     b.gravity_scale = 1;
-    b.drag = lv ? lv->body_drag : 0;
+    b.linear_drag = lv ? lv->body_linear_drag : 0;
     b.material = lv ? lv->body_material : n_material();
     b.category = 1;
     b.mask = 0xffffffffu;
-    b.sleep = true;
-    b.awake = true;
+    b.enable_sleep = true;
+    b.is_awake = true;
     b.path = -1;
     b.repeat_x = 1;
     b.repeat_y = 1;
@@ -266,29 +266,29 @@ static const char *body_problem(const nt_level *lv, const nt_level_body *b)
     if (b->type != NT_BODY_STATIC && b->type != NT_BODY_KINEMATIC && b->type != NT_BODY_DYNAMIC) return "unknown type";
     if ((p = shape_problem(lv, b->shape)) != NULL) return p;
     if (!fin2(b->position) || !fin2(b->velocity) || !nt__finite(b->mass) || !nt__finite(b->gravity_scale) ||
-        !nt__finite(b->drag) || !nt__finite(b->phase) || !fin2(b->repeat_step))
+        !nt__finite(b->linear_drag) || !nt__finite(b->phase) || !fin2(b->repeat_step))
         return "non-finite number";
     if (b->mass <= 0) return "mass must be > 0";
     if (b->type == NT_BODY_DYNAMIC && !(b->mass >= NT_MIN_MASS && b->mass <= NT_MAX_MASS)) return "mass outside 1e-12 .. 1e12";
-    if (b->drag < 0) return "negative drag";
+    if (b->linear_drag < 0) return "negative drag";
     if (nt__fabs(b->gravity_scale) > (nt_real)NT_MAX_GRAVITY_SCALE) return "gravity scale outside -1e6 .. 1e6";
     if ((p = material_problem(lv->friction_model, b->material)) != NULL) return p;
     if (b->path < -1 || b->path >= lv->path_count) return "unknown path";
     if (b->path >= 0 && b->type != NT_BODY_KINEMATIC) return "only kinematic bodies follow paths";
     if (b->phase < 0 || b->phase >= 1) return "phase outside [0, 1)";
     if (b->score < 0 || b->score > 1000000) return "score outside 0..1000000";
-    if (b->score > 0 && !b->sensor) return "a body with a score must be a sensor";
+    if (b->score > 0 && !b->is_sensor) return "a body with a score must be a sensor";
     if (b->repeat_x < 1 || b->repeat_y < 1 || b->repeat_x > 10000 || b->repeat_y > 10000) return "repeat outside 1..10000";
     if (b->is_template && (b->repeat_x > 1 || b->repeat_y > 1)) return "a template cannot repeat";
     if (!body_in_reach(lv, b)) return "position more than 64 cells outside the map";
     if (!body_fits_map(lv, b)) return "a body larger than half a cell must lie inside the map";
     if (b->door < NT_DOOR_NONE || b->door > NT_DOOR_TRAP) return "unknown door kind";
-    if (b->door != NT_DOOR_NONE && (b->type == NT_BODY_DYNAMIC || b->sensor || b->is_template))
+    if (b->door != NT_DOOR_NONE && (b->type == NT_BODY_DYNAMIC || b->is_sensor || b->is_template))
         return "a door is a solid static or kinematic body, not a template";
     if ((b->door == NT_DOOR_LOCKED || b->door == NT_DOOR_TRAP) != (b->door_switch != 0)) return "a locked or trap door (only) names its switch";
     if (b->door_switch != 0 && !is_switch(lv, b->door_switch)) return "the door's switch is not a switch region";
     if (b->one_way < NT_ONE_WAY_NONE || b->one_way > NT_ONE_WAY_UP) return "unknown one-way side";
-    if (b->one_way != NT_ONE_WAY_NONE && (b->type == NT_BODY_DYNAMIC || b->sensor || b->is_template || b->door != NT_DOOR_NONE))
+    if (b->one_way != NT_ONE_WAY_NONE && (b->type == NT_BODY_DYNAMIC || b->is_sensor || b->is_template || b->door != NT_DOOR_NONE))
         return "a one-way body is a solid static or kinematic body, not a door or a template";
     return NULL;
 }
@@ -434,7 +434,7 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: missing cell arrays");
     if (!nt__valid_text(lv->title, NT_LEVEL_TEXT_MAX) || !nt__valid_text(lv->author, NT_LEVEL_TEXT_MAX))
         return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: title or author holds '\"', '\\' or a control character");
-    if (!fin2(lv->gravity) || !nt__finite(lv->body_drag) || (lv->has_player && !fin2(lv->player)))
+    if (!fin2(lv->gravity) || !nt__finite(lv->body_linear_drag) || (lv->has_player && !fin2(lv->player)))
         return nt__error_plain(err, NT_ERR_NON_FINITE, "level: non-finite setting");
     if (nt__fabs(lv->gravity.x) > (nt_real)NT_MAX_GRAVITY || nt__fabs(lv->gravity.y) > (nt_real)NT_MAX_GRAVITY)
         return nt__error_plain(err, NT_ERR_OUT_OF_RANGE, "level: gravity beyond %g", (double)NT_MAX_GRAVITY);
@@ -443,7 +443,7 @@ nt_status nt_level_validate(const nt_level *lv, nt_text_error *err)
     if (lv->has_player && !in_reach(lv, lv->player))
         return nt__error_plain(err, NT_ERR_OUT_OF_RANGE, "level: player spawn more than %d cells outside the map",
                                NT_WORLD_REACH_CELLS);
-    if (lv->body_drag < 0) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: negative body drag");
+    if (lv->body_linear_drag < 0) return nt__error_plain(err, NT_ERR_INVALID_ARGUMENT, "level: negative body drag");
     const char *p;
     for (int i = 0; i < NT_MAX_MATERIALS; i++)
         if ((p = material_problem(lv->friction_model, lv->materials[i])) != NULL)
@@ -701,8 +701,8 @@ static nt_status parse_setting(parser *P, int key)
         return NT_OK;
     case K_SLEEP:
         if ((s = nt__expect_fields(t, 2, "sleep on|off")) != NT_OK) return s;
-        if (nt__field_is(&t->f[1], "on")) lv->sleep = true;
-        else if (nt__field_is(&t->f[1], "off")) lv->sleep = false;
+        if (nt__field_is(&t->f[1], "on")) lv->enable_sleep = true;
+        else if (nt__field_is(&t->f[1], "off")) lv->enable_sleep = false;
         else {
             char q[NT__QUOTE_MAX];
             return nt__fail_col(t, t->f[1].col, "expected on or off, got '%s'", nt__quote(q, t->f[1].s, t->f[1].n));
@@ -721,7 +721,7 @@ static nt_status parse_setting(parser *P, int key)
         return material_at(P, 1, "body-material", &lv->body_material);
     case K_BODY_DRAG:
         if ((s = nt__expect_fields(t, 2, "body-drag D")) != NT_OK) return s;
-        return nonneg_at(P, 1, "body drag", &lv->body_drag);
+        return nonneg_at(P, 1, "body drag", &lv->body_linear_drag);
     }
     return NT_OK;
 }
@@ -1076,13 +1076,13 @@ static nt_status parse_body(parser *P)
             s = material_at(P, a, "body", &b.material);
             if (s == NT_OK) s = check_model_friction(P, b.material, t->line, material_col, "body");
             break;
-        case O_DRAG: s = nonneg_at(P, a, "drag", &b.drag); break;
+        case O_DRAG: s = nonneg_at(P, a, "drag", &b.linear_drag); break;
         case O_GSCALE: s = ranged_at(P, a, "gravity scale", 0, (nt_real)NT_MAX_GRAVITY_SCALE, &b.gravity_scale); break;
         case O_CATEGORY: s = nt__field_u32(t, &t->f[a], "category", &b.category); break;
         case O_MASK: s = nt__field_u32(t, &t->f[a], "mask", &b.mask); break;
-        case O_SENSOR: b.sensor = true; break;
-        case O_NOSLEEP: b.sleep = false; break;
-        case O_ASLEEP: b.awake = false; break;
+        case O_SENSOR: b.is_sensor = true; break;
+        case O_NOSLEEP: b.enable_sleep = false; break;
+        case O_ASLEEP: b.is_awake = false; break;
         case O_PATH: {
             char name[NT_LEVEL_NAME_MAX];
             s = nt__field_name(t, &t->f[a], "path name", name);
@@ -1142,12 +1142,12 @@ static nt_status parse_body(parser *P)
         return nt__fail_col(t, seen[O_PATH], "only kinematic bodies follow paths (this body is %s)",
                             b.type == NT_BODY_STATIC ? "static" : "dynamic");
     if (seen[O_PHASE] && b.path < 0) return nt__fail_col(t, seen[O_PHASE], "'phase' needs 'path'");
-    if (b.score > 0 && !b.sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
+    if (b.score > 0 && !b.is_sensor) return nt__fail_col(t, seen[O_SCORE], "a body with a score must be a sensor (add 'sensor')");
     if (b.is_template && (b.repeat_x > 1 || b.repeat_y > 1)) return nt__fail_col(t, repeat_col, "a template cannot repeat");
-    if (b.one_way != NT_ONE_WAY_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template || b.door != NT_DOOR_NONE))
+    if (b.one_way != NT_ONE_WAY_NONE && (b.type == NT_BODY_DYNAMIC || b.is_sensor || b.is_template || b.door != NT_DOOR_NONE))
         return nt__fail_col(t, seen[O_ONE_WAY],
                             "a one-way body is a solid static or kinematic body (not dynamic, a sensor, a template or a door)");
-    if (b.door != NT_DOOR_NONE && (b.type == NT_BODY_DYNAMIC || b.sensor || b.is_template)) {
+    if (b.door != NT_DOOR_NONE && (b.type == NT_BODY_DYNAMIC || b.is_sensor || b.is_template)) {
         int col = seen[O_DOOR] ? seen[O_DOOR] : seen[O_OPENED_BY] ? seen[O_OPENED_BY] : seen[O_CLOSED_BY];
         return nt__fail_col(t, col, "a door is a solid static or kinematic body (not dynamic, a sensor or a template)");
     }
@@ -1324,7 +1324,7 @@ nt_status nt_level_parse(const char *name, const char *text, size_t length, nt_l
         lv->cell_size = 24;
         lv->gravity = wd.gravity;
         lv->friction_model = wd.friction_model;
-        lv->sleep = wd.enable_sleep;
+        lv->enable_sleep = wd.enable_sleep;
         lv->seed = 1;
         for (int i = 0; i < NT_MAX_MATERIALS; i++) lv->materials[i] = wd.tile_material;
         lv->body_material = n_material();
@@ -1416,9 +1416,9 @@ static void put_body(nt__sink *o, const nt_level *lv, const nt_level_body *b)
         nt__sink_puts(o, " ");
         nt__sink_real(o, b->material.bounce);
     }
-    if (!same_real(b->drag, d.drag)) {
+    if (!same_real(b->linear_drag, d.linear_drag)) {
         nt__sink_puts(o, " drag ");
-        nt__sink_real(o, b->drag);
+        nt__sink_real(o, b->linear_drag);
     }
     if (!same_real(b->gravity_scale, d.gravity_scale)) {
         nt__sink_puts(o, " gravity-scale ");
@@ -1426,9 +1426,9 @@ static void put_body(nt__sink *o, const nt_level *lv, const nt_level_body *b)
     }
     if (b->category != d.category) nt__sink_printf(o, " category 0x%x", (unsigned)b->category);
     if (b->mask != d.mask) nt__sink_printf(o, " mask 0x%x", (unsigned)b->mask);
-    if (b->sensor) nt__sink_puts(o, " sensor");
-    if (!b->sleep) nt__sink_puts(o, " no-sleep");
-    if (!b->awake) nt__sink_puts(o, " asleep");
+    if (b->is_sensor) nt__sink_puts(o, " sensor");
+    if (!b->enable_sleep) nt__sink_puts(o, " no-sleep");
+    if (!b->is_awake) nt__sink_puts(o, " asleep");
     if (b->path >= 0) {
         nt__sink_printf(o, " path %s", lv->paths[b->path].name);
         if (!same_real(b->phase, 0)) {
@@ -1464,7 +1464,7 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
     nt__sink_puts(&o, "\ngravity ");
     put_vec(&o, lv->gravity);
     nt__sink_printf(&o, "\nfriction-model %s\nsleep %s\nseed %llu\n", lv->friction_model == NT_FRICTION_N ? "n" : "coulomb",
-                    lv->sleep ? "on" : "off", (unsigned long long)lv->seed);
+                    lv->enable_sleep ? "on" : "off", (unsigned long long)lv->seed);
     for (int i = 0; i < NT_MAX_MATERIALS; i++) {
         if (i > 0 && same_material(lv->materials[i], lv->materials[0])) continue;
         nt__sink_printf(&o, "material %d ", i);
@@ -1478,7 +1478,7 @@ size_t nt_level_write(const nt_level *lv, char *buf, size_t cap)
     nt__sink_puts(&o, " ");
     nt__sink_real(&o, lv->body_material.bounce);
     nt__sink_puts(&o, "\nbody-drag ");
-    nt__sink_real(&o, lv->body_drag);
+    nt__sink_real(&o, lv->body_linear_drag);
     nt__sink_puts(&o, "\n\n# tile codes: '.' EMPTY, '#' FULL, other tiles N's code '0' + id (README: The tile set)\ntiles\n");
     size_t n = (size_t)lv->width * (size_t)lv->height;
     put_grid(&o, lv, lv->tiles, GRID_TILES);
@@ -1565,13 +1565,13 @@ nt_body_def nt_level_body_def(const nt_level_body *b, int k)
     d.velocity = b->velocity;
     d.mass = b->mass;
     d.gravity_scale = b->gravity_scale;
-    d.linear_drag = b->drag;
+    d.linear_drag = b->linear_drag;
     d.material = b->material;
     d.category = b->category;
     d.mask = b->mask;
-    d.is_sensor = b->sensor;
-    d.enable_sleep = b->sleep;
-    d.is_awake = b->awake;
+    d.is_sensor = b->is_sensor;
+    d.enable_sleep = b->enable_sleep;
+    d.is_awake = b->is_awake;
     return d;
 }
 
@@ -1587,7 +1587,7 @@ nt_status nt_level_create_world(const nt_level *lv, nt_world **out, nt_body_id *
     wd.gravity = lv->gravity;
     wd.friction_model = lv->friction_model;
     wd.tile_material = lv->materials[0];
-    wd.enable_sleep = lv->sleep;
+    wd.enable_sleep = lv->enable_sleep;
     /* Speeds in the defaults are for cells of 24 units: scale them with the cell. */
     nt_real scale = lv->cell_size / 24;
     wd.restitution_threshold *= scale;

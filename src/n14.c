@@ -175,7 +175,7 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
     case 0: /* gold */
         b.type = NT_BODY_STATIC;
         b.shape = nt_shape_circle(6);
-        b.sensor = true;
+        b.is_sensor = true;
         b.score = 1;
         return add_body(im, "gold", 0, &b, col);
     case 1: /* bounce block */
@@ -258,7 +258,7 @@ static nt_status import_object(importer *im, const char *s, size_t n, int col)
     case 12: /* mine */
         b.type = NT_BODY_STATIC;
         b.shape = nt_shape_circle(4);
-        b.sensor = true;
+        b.is_sensor = true;
         b.deadly = true;
         return add_body(im, "mine", 12, &b, col);
     }

@@ -129,13 +129,13 @@ static void test_parse_everything(void **state)
     assert_true(lv->cell_size == 16);
     assert_true(lv->gravity.y == R(-10.5));
     assert_int_equal(lv->friction_model, NT_FRICTION_COULOMB);
-    assert_false(lv->sleep);
+    assert_false(lv->enable_sleep);
     assert_true(lv->seed == 99);
     assert_true(lv->materials[0].friction == R(0.5) && lv->materials[0].bounce == R(0.25));
     assert_true(lv->materials[3].friction == 2 && lv->materials[3].bounce == 1);
     assert_true(lv->materials[4].friction == R(0.5)); /* unset: material 0 */
     assert_true(lv->body_material.friction == R(0.7));
-    assert_true(lv->body_drag == R(0.5));
+    assert_true(lv->body_linear_drag == R(0.5));
     const uint8_t tiles[12] = {0, 2, 14, 33, 1, 0, 0, 32, 1, 1, 1, 1};
     assert_memory_equal(lv->tiles, tiles, 12);
     const uint8_t mats[12] = {0, 0, 0, 15, 0, 3, 0, 0, 10, 0, 0, 9};
@@ -158,13 +158,13 @@ static void test_parse_everything(void **state)
     assert_int_equal(b->type, NT_BODY_DYNAMIC);
     assert_int_equal(b->shape.type, NT_SHAPE_CIRCLE);
     assert_true(b->shape.half.x == 3 && b->velocity.y == -2 && b->mass == R(2.5));
-    assert_true(b->material.friction == R(1.5) && b->drag == R(0.25) && b->gravity_scale == -1);
-    assert_true(b->category == 4 && b->mask == 12 && !b->sleep && !b->awake && b->path == -1);
+    assert_true(b->material.friction == R(1.5) && b->linear_drag == R(0.25) && b->gravity_scale == -1);
+    assert_true(b->category == 4 && b->mask == 12 && !b->enable_sleep && !b->is_awake && b->path == -1);
     b = &lv->bodies[1];
     assert_true(b->path == 0 && b->phase == R(0.25) && b->type == NT_BODY_KINEMATIC);
     assert_true(b->material.friction == R(0.7)); /* body-material default */
     b = &lv->bodies[2];
-    assert_true(b->sensor && b->score == 3 && b->deadly);
+    assert_true(b->is_sensor && b->score == 3 && b->deadly);
     assert_true(lv->bodies[3].is_template);
     assert_true(lv->bodies[4].repeat_x == 3 && lv->bodies[4].repeat_y == 2 && lv->bodies[4].repeat_step.y == 5);
     assert_int_equal(nt_level_instance_count(lv), 3 + 6);
@@ -459,9 +459,10 @@ static void roundtrip_text(const char *text)
         assert_memory_equal(&x->velocity, &y->velocity, sizeof x->velocity);
         assert_memory_equal(&x->shape.half, &y->shape.half, sizeof x->shape.half);
         assert_memory_equal(&x->material, &y->material, sizeof x->material);
-        assert_true(x->mass == y->mass && x->drag == y->drag && x->gravity_scale == y->gravity_scale);
+        assert_true(x->mass == y->mass && x->linear_drag == y->linear_drag && x->gravity_scale == y->gravity_scale);
         assert_true(x->type == y->type && x->shape.type == y->shape.type && x->category == y->category && x->mask == y->mask);
-        assert_true(x->sensor == y->sensor && x->sleep == y->sleep && x->awake == y->awake && x->path == y->path);
+        assert_true(x->is_sensor == y->is_sensor && x->enable_sleep == y->enable_sleep && x->is_awake == y->is_awake &&
+                    x->path == y->path);
         assert_true(x->phase == y->phase && x->score == y->score && x->deadly == y->deadly && x->is_template == y->is_template);
         assert_true(x->repeat_x == y->repeat_x && x->repeat_y == y->repeat_y);
     }
@@ -720,8 +721,8 @@ static void test_roundtrip_random(void **state)
             b.mass = rreal(0.01, 9);
             b.material = (nt_material){rreal(0, 1), rreal(0, 1)};
             b.category = rnd();
-            b.sensor = rnd() % 2;
-            b.score = b.sensor && rnd() % 2 ? (int)(1 + rnd() % 9) : 0;
+            b.is_sensor = rnd() % 2;
+            b.score = b.is_sensor && rnd() % 2 ? (int)(1 + rnd() % 9) : 0;
             b.deadly = rnd() % 2;
             if (b.type == NT_BODY_KINEMATIC && rnd() % 2) {
                 b.path = 0;

@@ -138,10 +138,10 @@ static void test_objects(void **state)
      * the one-way platform facing right */
     assert_int_equal(lv->body_count, 6);
     const nt_level_body *g = &lv->bodies[nt_level_find_body(lv, "gold2")];
-    assert_true(g->type == NT_BODY_STATIC && g->sensor && g->score == 1 && !g->deadly);
+    assert_true(g->type == NT_BODY_STATIC && g->is_sensor && g->score == 1 && !g->deadly);
     assert_true(g->shape.type == NT_SHAPE_CIRCLE && g->shape.half.x == 6 && g->position.x == 132);
     const nt_level_body *m = &lv->bodies[nt_level_find_body(lv, "mine1")];
-    assert_true(m->sensor && m->deadly && m->score == 0 && m->shape.half.x == 4);
+    assert_true(m->is_sensor && m->deadly && m->score == 0 && m->shape.half.x == 4);
     const nt_level_body *b = &lv->bodies[nt_level_find_body(lv, "block1")];
     assert_true(b->type == NT_BODY_DYNAMIC && b->shape.type == NT_SHAPE_AABB && b->shape.half.x == (nt_real)9.6);
     /* the exit door: a one-cell exit region that needs its switch, a switch region before it */
@@ -156,7 +156,7 @@ static void test_objects(void **state)
     const nt_level_body *d = &lv->bodies[nt_level_find_body(lv, "lockeddoor1")];
     int ds = nt_level_find_region(lv, "doorswitch1");
     assert_true(ds >= 0 && lv->regions[ds].kind == NT_REGION_SWITCH && lv->regions[ds].lo.x == 48);
-    assert_true(d->type == NT_BODY_STATIC && d->door == NT_DOOR_LOCKED && d->door_switch == ds + 1 && !d->sensor);
+    assert_true(d->type == NT_BODY_STATIC && d->door == NT_DOOR_LOCKED && d->door_switch == ds + 1 && !d->is_sensor);
     assert_true(d->position.x == 14 * 24 + 12 && d->position.y == 15 * 24 + 12);
     assert_true(d->shape.half.x == 12 && d->shape.half.y == 3);
     /* one-way facing up at (324, 228) = cell (13, 9): a one-way HALFu; (36, 48): cell (1, 2) */
@@ -165,7 +165,7 @@ static void test_objects(void **state)
     assert_int_equal(tile_at(lv, 1, 2), NT_TILE_HALFu);
     assert_int_equal(tile_at(lv, 12, 9), NT_TILE_EMPTY); /* the one facing right is a body over the cell's right half */
     const nt_level_body *ow = &lv->bodies[nt_level_find_body(lv, "oneway1")];
-    assert_true(ow->type == NT_BODY_STATIC && ow->one_way == NT_ONE_WAY_RIGHT && !ow->sensor);
+    assert_true(ow->type == NT_BODY_STATIC && ow->one_way == NT_ONE_WAY_RIGHT && !ow->is_sensor);
     assert_true(ow->position.x == 12 * 24 + 18 && ow->position.y == 9 * 24 + 12 && ow->shape.half.x == 6 && ow->shape.half.y == 12);
     /* launch pads: the cell behind gets material 1, which bounces fully */
     assert_int_equal(lv->cell_materials[24 * 33 + 1], 1);  /* floor pad at (36, 576): border cell (1, 24) */

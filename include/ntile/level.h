@@ -109,12 +109,12 @@ typedef struct nt_level_body {
     nt_vec2 velocity;
     nt_real mass;
     nt_real gravity_scale;
-    nt_real drag;
+    nt_real linear_drag;
     nt_material material;
     uint32_t category, mask;
-    bool sensor;
-    bool sleep;       ///< may fall asleep
-    bool awake;       ///< starts awake
+    bool is_sensor;
+    bool enable_sleep; ///< may fall asleep
+    bool is_awake;    ///< starts awake
     int path;         ///< index into paths (kinematic bodies), or -1
     nt_real phase;    ///< where on the path it starts, fraction of the path in [0, 1)
     int score;        ///< > 0: a sensor the player collects for this many points
@@ -155,11 +155,11 @@ typedef struct nt_level {
     nt_real cell_size;      ///< world units, > 0
     nt_vec2 gravity;
     nt_friction_model friction_model;
-    bool sleep;             ///< world.enable_sleep
+    bool enable_sleep;      ///< world.enable_sleep
     uint64_t seed;          ///< the game layer's random source starts here
     nt_material materials[NT_MAX_MATERIALS]; ///< tile materials; 0 is the default
     nt_material body_material; ///< default material of bodies
-    nt_real body_drag;         ///< default linear drag of bodies
+    nt_real body_linear_drag;  ///< default linear drag of bodies
     uint8_t *tiles;          ///< width * height tile ids, row-major, row 0 first
     uint8_t *cell_materials; ///< width * height material indices
     uint8_t *cell_flags;     ///< width * height NT_CELL_* flags

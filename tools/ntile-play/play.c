@@ -1343,10 +1343,10 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
             break;
         }
         record_stop(p);
-        p->level->sleep = !p->level->sleep;
+        p->level->enable_sleep = !p->level->enable_sleep;
         p->dirty = p->settings_dirty = true;
         rebuild(p);
-        say(p, "sleeping %s: the world was rebuilt from the level", p->level->sleep ? "on" : "off");
+        say(p, "sleeping %s: the world was rebuilt from the level", p->level->enable_sleep ? "on" : "off");
         break;
     case PG_CMD_ZOOM:
         if (arg == 0) {
@@ -1686,12 +1686,12 @@ static void place_object(pg *p, pg_vec w)
         if (p->tool == PG_TOOL_GOLD) {
             fresh_name(lv, "gold", name, sizeof name);
             b.shape = nt_shape_circle((nt_real)(cs / 4));
-            b.sensor = true;
+            b.is_sensor = true;
             b.score = 1;
         } else if (p->tool == PG_TOOL_MINE) {
             fresh_name(lv, "mine", name, sizeof name);
             b.shape = nt_shape_circle((nt_real)(cs / 6));
-            b.sensor = true;
+            b.is_sensor = true;
             b.deadly = true;
         } else { /* a platform going up and down 4 cells above where it is placed */
             nt_level_path q;

@@ -762,7 +762,7 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
     button(&k, buf, "change", PG_CMD_DT, 0);
     nt_world_def wd = nt_default_world_def();
     linef(&k, PG_COLOR_TEXT, "iterations %d velocity, %d position", wd.velocity_iterations, wd.position_iterations);
-    checkbox(&k, lv->sleep, "sleep (rebuilds the world)", PG_CMD_SLEEP, 0);
+    checkbox(&k, lv->enable_sleep, "sleep (rebuilds the world)", PG_CMD_SLEEP, 0);
     button(&k, "friction model (F)", model_name(lv->friction_model), PG_CMD_FRICTION_MODEL, 0);
 
     heading(&k, "Thrown body (left-drag)");

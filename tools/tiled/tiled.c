@@ -708,9 +708,9 @@ static nt_status map_settings(builder *b)
                            tl_quote(q, str));
         }
     }
-    int sleep = lv->sleep;
+    int sleep = lv->enable_sleep;
     if ((s = prop_bool(c, "map", ps, "sleep", &sleep)) != NT_OK) return s;
-    lv->sleep = sleep != 0;
+    lv->enable_sleep = sleep != 0;
     long long seed = (long long)lv->seed;
     if ((s = prop_int(c, "map", ps, "seed", 0, 9007199254740991LL, &seed)) != NT_OK) return s;
     lv->seed = (uint64_t)seed;
@@ -989,7 +989,7 @@ static nt_status object_body(builder *b, const tl_layer *l, const tl_object *o, 
                        lv->friction_model == NT_FRICTION_N ? " (the limit of the N friction model)" : "");
     if (score > 0 && !sensor) return tl_fail(c, o->loc, "%s: a body with a score must be a sensor (set \"sensor\")", what);
     if (phase < 0 || phase >= 1) return tl_fail(c, prop(&o->props, "phase")->loc, "%s: property \"phase\" must be in [0, 1)", what);
-    body.sensor = sensor != 0;
+    body.is_sensor = sensor != 0;
     body.deadly = deadly != 0;
     body.mass = (nt_real)mass;
     body.material.bounce = (nt_real)bounce;
