@@ -151,10 +151,10 @@ static nt_real region_depth(const region *g, nt_vec2 p, nt_vec2 *n)
 {
     nt_mtv m;
     int hit;
-    if (g->tile >= 0 && g->obj.type == NT_SHAPE_AABB) /* nt_collide_tile_shape's own call for a box */
+    if (g->tile >= 0 && g->obj.type == NT_SHAPE_AABB) /* nt_tile_collide_shape's own call for a box */
         hit = nt__collide_tile_aabb_m(g->tile, p, g->obj.half, 0, &m) == NT__PUSH;
     else
-        hit = g->tile >= 0 ? nt_collide_tile_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
+        hit = g->tile >= 0 ? nt_tile_collide_shape(g->tile, p, g->obj, &m) : nt_collide_shapes(p, g->obj, g->bp, g->bs, &m);
     if (!hit) return 0;
     *n = m.normal;
     return m.depth;
@@ -567,7 +567,7 @@ static nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
         return start_push_depth(c, &m, &u, n);
     }
     /* The overlap itself from the plain test: the masked one measures the way out. */
-    if (!nt_collide_tile_shape(cell.tile, l, c->obj, &u)) return 0;
+    if (!nt_tile_collide_shape(cell.tile, l, c->obj, &u)) return 0;
     int r = c->obj.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(cell.tile, l, c->obj.half.x, cell.seams, &m)
                                            : nt__collide_tile_aabb_m(cell.tile, l, c->obj.half, cell.seams, &m);
     if (r == NT__SEPARATE) return 0;

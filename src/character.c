@@ -376,7 +376,7 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++)
             if ((nt__cell_flags(w, x, y) & NT_CELL_ONE_WAY) &&
-                nt_collide_tile_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, NULL))
+                nt_tile_collide_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, NULL))
                 return 1;
     return 0;
 }

@@ -176,9 +176,9 @@ void nt_map_destroy(nt_map *map)
     nt__free(map);
 }
 
-int nt_map_width(const nt_map *map) { return map ? map->w : 0; }
-int nt_map_height(const nt_map *map) { return map ? map->h : 0; }
-nt_real nt_map_cell_size(const nt_map *map) { return map ? map->cell : 0; }
+int nt_map_get_width(const nt_map *map) { return map ? map->w : 0; }
+int nt_map_get_height(const nt_map *map) { return map ? map->h : 0; }
+nt_real nt_map_get_cell_size(const nt_map *map) { return map ? map->cell : 0; }
 
 static void refresh(nt_map *map, int x, int y)
 {

@@ -640,22 +640,22 @@ int nt__collide_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_
 
 /* The masked routines write *out only when they push, so a caller's NULL can be
  * swapped for a scratch result without a copy. */
-bool nt_collide_tile_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out)
+bool nt_tile_collide_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out)
 {
     nt_mtv scratch;
     return nt__collide_tile_aabb_m(tile, center, half, 0, out ? out : &scratch) == NT__PUSH;
 }
 
-bool nt_collide_tile_circle(int tile, nt_vec2 center, nt_real radius, nt_mtv *out)
+bool nt_tile_collide_circle(int tile, nt_vec2 center, nt_real radius, nt_mtv *out)
 {
     nt_mtv scratch;
     return nt__collide_tile_circle_m(tile, center, radius, 0, out ? out : &scratch) == NT__PUSH;
 }
 
-bool nt_collide_tile_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out)
+bool nt_tile_collide_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out)
 {
-    return shape.type == NT_SHAPE_CIRCLE ? nt_collide_tile_circle(tile, center, shape.half.x, out)
-                                         : nt_collide_tile_aabb(tile, center, shape.half, out);
+    return shape.type == NT_SHAPE_CIRCLE ? nt_tile_collide_circle(tile, center, shape.half.x, out)
+                                         : nt_tile_collide_aabb(tile, center, shape.half, out);
 }
 
 /* ---------- object pairs ---------- */

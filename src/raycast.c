@@ -410,7 +410,7 @@ static bool ray_tile_m(int tile, nt_vec2 p, nt_vec2 d, nt_real tmax, unsigned ma
     return false;
 }
 
-bool nt_raycast_tile(int tile, nt_vec2 p0, nt_vec2 d, nt_real tmax, nt_real *t_out, nt_vec2 *normal_out)
+bool nt_tile_raycast(int tile, nt_vec2 p0, nt_vec2 d, nt_real tmax, nt_real *t_out, nt_vec2 *normal_out)
 {
     if (tile <= NT_TILE_EMPTY || tile >= NT_TILE_COUNT) return false;
     if (!nt__finite(p0.x) || !nt__finite(p0.y) || !nt__finite(d.x) || !nt__finite(d.y) || !nt__finite(tmax))

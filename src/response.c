@@ -322,7 +322,7 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
             s.type = (nt_shape_type)b->shape;
             s.half = h;
             nt_mtv m;
-            if (nt_collide_tile_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, &m) &&
+            if (nt_tile_collide_shape(nt__map_tile(w->map, x, y), nt_v2(c.x - (nt_real)x, c.y - (nt_real)y), s, &m) &&
                 m.depth > worst)
                 worst = m.depth;
         }

@@ -605,9 +605,9 @@ static uint64_t scripted_run(void)
      * (it passes through it going up and dropping down). */
     const nt_map *wm = nt_world_get_map(w);
     nt_map_def md = nt_default_map_def();
-    md.width = nt_map_width(wm);
-    md.height = nt_map_height(wm);
-    md.cell_size = nt_map_cell_size(wm);
+    md.width = nt_map_get_width(wm);
+    md.height = nt_map_get_height(wm);
+    md.cell_size = nt_map_get_cell_size(wm);
     nt_map *solid = NULL;
     assert_int_equal(nt_map_create(&md, &solid), NT_OK);
     for (int y = 0; y < md.height; y++)

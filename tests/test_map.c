@@ -99,9 +99,9 @@ static void test_create_errors(void **state)
 
     d = nt_default_map_def();
     assert_int_equal(nt_map_create(&d, &m), NT_OK);
-    assert_int_equal(nt_map_width(m), 31);
-    assert_int_equal(nt_map_height(m), 23);
-    assert_true(nt_map_cell_size(m) == 24);
+    assert_int_equal(nt_map_get_width(m), 31);
+    assert_int_equal(nt_map_get_height(m), 23);
+    assert_true(nt_map_get_cell_size(m) == 24);
     /* Bad edits leave the map unchanged. */
     assert_int_equal(nt_map_set_tile(m, 3, 3, NT_TILE_FULL), NT_OK);
     assert_int_equal(nt_map_set_tile(m, 3, 3, 34), NT_ERR_OUT_OF_RANGE);
@@ -500,7 +500,7 @@ static const double BIG_TOL = NT_REAL_IS_DOUBLE ? 1e-9 : 2e-5;
 /* The map's tiles as ints for the reference. */
 static void map_ints(const nt_map *m, int *tiles)
 {
-    int w = nt_map_width(m), h = nt_map_height(m);
+    int w = nt_map_get_width(m), h = nt_map_get_height(m);
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) tiles[y * w + x] = nt_map_get_tile(m, x, y);
 }
@@ -512,7 +512,7 @@ static void map_ints(const nt_map *m, int *tiles)
 static int big_check(const nt_map *m, const int *tiles, ref_shape rs, double x, double y, double tol, int *bad,
                      double *len_out, nt_resolution *res_out)
 {
-    int w = nt_map_width(m), h = nt_map_height(m);
+    int w = nt_map_get_width(m), h = nt_map_get_height(m);
     double rdx, rdy;
     double rlen = ref_mtv_map(tiles, w, h, rs, x, y, &rdx, &rdy);
     if (len_out) *len_out = rlen;

@@ -42,18 +42,18 @@ static const char *shape_str(ref_shape s, char *buf, size_t n)
 static int g_api_mismatch;
 static double g_max_err;
 
-/* The tile routine for the shape; also checks that nt_collide_tile_shape and a NULL
+/* The tile routine for the shape; also checks that nt_tile_collide_shape and a NULL
  * output give the same answer. */
 static bool eng_tile(int tile, ref_shape s, double cx, double cy, nt_mtv *m)
 {
     nt_vec2 c = nt_v2((nt_real)cx, (nt_real)cy);
     nt_shape sh = s.is_circle ? nt_shape_circle((nt_real)s.hw) : nt_shape_aabb((nt_real)s.hw, (nt_real)s.hh);
-    bool r = s.is_circle ? nt_collide_tile_circle(tile, c, (nt_real)s.hw, m)
-                         : nt_collide_tile_aabb(tile, c, sh.half, m);
+    bool r = s.is_circle ? nt_tile_collide_circle(tile, c, (nt_real)s.hw, m)
+                         : nt_tile_collide_aabb(tile, c, sh.half, m);
     nt_mtv m2;
-    bool r2 = nt_collide_tile_shape(tile, c, sh, &m2);
-    bool r3 = s.is_circle ? nt_collide_tile_circle(tile, c, (nt_real)s.hw, NULL)
-                          : nt_collide_tile_aabb(tile, c, sh.half, NULL);
+    bool r2 = nt_tile_collide_shape(tile, c, sh, &m2);
+    bool r3 = s.is_circle ? nt_tile_collide_circle(tile, c, (nt_real)s.hw, NULL)
+                          : nt_tile_collide_aabb(tile, c, sh.half, NULL);
     if (r2 != r || r3 != r ||
         (r && (m2.depth != m->depth || m2.normal.x != m->normal.x || m2.normal.y != m->normal.y)))
         g_api_mismatch++;
@@ -341,10 +341,10 @@ static void test_empty_and_invalid_tiles(void **state)
     nt_mtv m;
     const int tiles[] = {NT_TILE_EMPTY, -1, 34, 1000};
     for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++) {
-        assert_false(nt_collide_tile_aabb(tiles[i], nt_v2(0.5f, 0.5f), nt_v2(0.5f, 0.5f), &m));
-        assert_false(nt_collide_tile_circle(tiles[i], nt_v2(0.5f, 0.5f), 0.5f, &m));
-        assert_false(nt_collide_tile_shape(tiles[i], nt_v2(0.5f, 0.5f), nt_shape_circle(0.25f), &m));
-        assert_false(nt_collide_tile_aabb(tiles[i], nt_v2(0.5f, 0.5f), nt_v2(0, 0), &m));
+        assert_false(nt_tile_collide_aabb(tiles[i], nt_v2(0.5f, 0.5f), nt_v2(0.5f, 0.5f), &m));
+        assert_false(nt_tile_collide_circle(tiles[i], nt_v2(0.5f, 0.5f), 0.5f, &m));
+        assert_false(nt_tile_collide_shape(tiles[i], nt_v2(0.5f, 0.5f), nt_shape_circle(0.25f), &m));
+        assert_false(nt_tile_collide_aabb(tiles[i], nt_v2(0.5f, 0.5f), nt_v2(0, 0), &m));
     }
 }
 

@@ -443,7 +443,7 @@ static void test_shortest_numbers(void **state)
         snprintf(copy, sizeof copy, "%s", line);
         for (char *t = strtok(copy, " \n"); t && nf < 10; t = strtok(NULL, " \n")) f[nf++] = t;
         if (i % 2) {
-            hit = nt_collide_tile_shape(tile, nt_v2((nt_real)strtod(f[3], NULL), (nt_real)strtod(f[4], NULL)),
+            hit = nt_tile_collide_shape(tile, nt_v2((nt_real)strtod(f[3], NULL), (nt_real)strtod(f[4], NULL)),
                                         nt_shape_circle((nt_real)strtod(f[5], NULL)), &m);
         } else {
             hit = nt_collide_shapes(nt_v2(0, 0), nt_shape_aabb((nt_real)strtod(f[4], NULL), (nt_real)strtod(f[5], NULL)),

@@ -1,4 +1,4 @@
-/* Ray casts: nt_raycast_tile and nt_map_raycast against independent references.
+/* Ray casts: nt_tile_raycast and nt_map_raycast against independent references.
  *
  * The reference geometry below is written from the notes' shape table (canonical `pn`
  * shapes, mirrored x -> 1-x when signx < 0 and y -> 1-y when signy > 0), in double,
@@ -227,7 +227,7 @@ static int cast_tile(int id, double px, double py, double dx, double dy, double 
 {
     nt_real tt = -1;
     nt_vec2 n = nt_v2(7, 7);
-    bool hit = nt_raycast_tile(id, nt_v2((nt_real)px, (nt_real)py), nt_v2((nt_real)dx, (nt_real)dy), (nt_real)tmax,
+    bool hit = nt_tile_raycast(id, nt_v2((nt_real)px, (nt_real)py), nt_v2((nt_real)dx, (nt_real)dy), (nt_real)tmax,
                                &tt, &n);
     *t = tt;
     *nx = n.x;
@@ -606,7 +606,7 @@ static void test_tile_known_hits(void **state)
     assert_false(cast_tile(1, NAN, 0.5, 1, 0, 1, &t, &nx, &ny));
     assert_false(cast_tile(1, 0.5, 0.5, INFINITY, 0, 1, &t, &nx, &ny));
     assert_false(cast_tile(1, 0.5, 0.5, 1, 0, NAN, &t, &nx, &ny));
-    assert_true(nt_raycast_tile(1, nt_v2(0.5, -1), nt_v2(0, 2), 1, NULL, NULL));
+    assert_true(nt_tile_raycast(1, nt_v2(0.5, -1), nt_v2(0, 2), 1, NULL, NULL));
 }
 
 /* ------------------------------------------------------------------------------ */

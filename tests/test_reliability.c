@@ -26,7 +26,7 @@ static const nt_real DT = R(1.0 / 40);
 static void check_bodies(const nt_world *w, const nt_body_id *ids, int n, const char *where)
 {
     const nt_map *m = nt_world_get_map(w);
-    double cell = (double)nt_map_cell_size(m), W = nt_map_width(m) * cell, H = nt_map_height(m) * cell;
+    double cell = (double)nt_map_get_cell_size(m), W = nt_map_get_width(m) * cell, H = nt_map_get_height(m) * cell;
     for (int i = 0; i < n; i++) {
         if (!nt_body_is_valid(w, ids[i])) continue;
         nt_vec2 p = nt_body_get_position(w, ids[i]), v = nt_body_get_velocity(w, ids[i]);

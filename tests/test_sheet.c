@@ -4,7 +4,7 @@
  * once and parses its SVG with the small checker below (balanced tags, quoted attributes, valid
  * character references, one root <svg>). The tests then read the drawing back:
  *  - one <g id="tile-NAME"> per solid tile, names from the independent reference;
- *  - every sample's projection arrow equals nt_collide_tile_aabb/circle for the object
+ *  - every sample's projection arrow equals nt_tile_collide_aabb/circle for the object
  *    as drawn, and has the length of the independent reference's minimum translation
  *    (tests/ref.c) and frees the object by the reference's overlap test;
  *  - the dashed resolved position is where that arrow leads, and the contact normals
@@ -429,8 +429,8 @@ static void check_arrows(void)
             assert_true(fabs(x - s.cx) < 1e-9 && fabs(y - s.cy) < 1e-9);
             /* ... and is the engine's projection for the object as drawn. */
             nt_mtv m;
-            bool hit = s.circle ? nt_collide_tile_circle(id, nt_v2((nt_real)s.cx, (nt_real)s.cy), (nt_real)s.hw, &m)
-                                : nt_collide_tile_aabb(id, nt_v2((nt_real)s.cx, (nt_real)s.cy),
+            bool hit = s.circle ? nt_tile_collide_circle(id, nt_v2((nt_real)s.cx, (nt_real)s.cy), (nt_real)s.hw, &m)
+                                : nt_tile_collide_aabb(id, nt_v2((nt_real)s.cx, (nt_real)s.cy),
                                                        nt_v2((nt_real)s.hw, (nt_real)s.hh), &m);
             assert_true(hit);
             double ex = (double)m.normal.x * m.depth, ey = (double)m.normal.y * m.depth;

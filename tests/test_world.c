@@ -85,7 +85,7 @@ static void test_defaults(void **state)
     assert_true(b.mask == 0xffffffffu && b.category == 1u);
     nt_world *w = make_world(31, 23, 24);
     assert_int_equal(nt_world_get_body_count(w), 0);
-    assert_int_equal(nt_map_width(nt_world_get_map(w)), 31);
+    assert_int_equal(nt_map_get_width(nt_world_get_map(w)), 31);
     assert_int_equal(nt_world_step(w, R(1.0 / 60)), NT_OK);
     nt_world_destroy(w);
     nt_world_destroy(NULL);

@@ -60,11 +60,11 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out);
 void nt_map_destroy(nt_map *map);
 
 /// Map width in cells.
-int nt_map_width(const nt_map *map);
+int nt_map_get_width(const nt_map *map);
 /// Map height in cells.
-int nt_map_height(const nt_map *map);
+int nt_map_get_height(const nt_map *map);
 /// Cell size in world units.
-nt_real nt_map_cell_size(const nt_map *map);
+nt_real nt_map_get_cell_size(const nt_map *map);
 
 /// Set one cell's tile and update the edge states of the cell and its 4 neighbours.
 nt_status nt_map_set_tile(nt_map *map, int x, int y, int tile);

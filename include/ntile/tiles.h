@@ -113,13 +113,13 @@ typedef struct nt_mtv {
 /// Returns true and the exact minimum translation when the interiors overlap. Exact for
 /// any half-size up to NT_MAX_HALF_CELLS (map.h) and tested so; larger sizes take the
 /// same routines, untested.
-bool nt_collide_tile_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out);
+bool nt_tile_collide_aabb(int tile, nt_vec2 center, nt_vec2 half, nt_mtv *out);
 
-/// Circle against one tile alone (unit cell coordinates). See nt_collide_tile_aabb.
-bool nt_collide_tile_circle(int tile, nt_vec2 center, nt_real radius, nt_mtv *out);
+/// Circle against one tile alone (unit cell coordinates). See nt_tile_collide_aabb.
+bool nt_tile_collide_circle(int tile, nt_vec2 center, nt_real radius, nt_mtv *out);
 
 /// Either shape against one tile alone (unit cell coordinates).
-bool nt_collide_tile_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out);
+bool nt_tile_collide_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out);
 
 /// Minimum translation moving box A out of box B. Coincident centres push along -y.
 bool nt_collide_aabbs(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb, nt_mtv *out);
@@ -136,7 +136,7 @@ bool nt_collide_shapes(nt_vec2 pa, nt_shape a, nt_vec2 pb, nt_shape b, nt_mtv *o
 /// Segment p0 + t*d, t in [0, tmax], against one tile (unit cell coordinates).
 /// Returns true with the first t at which the segment enters the solid's interior and
 /// the outward surface normal there. A segment starting inside hits at t = 0 with normal (0,0).
-bool nt_raycast_tile(int tile, nt_vec2 p0, nt_vec2 d, nt_real tmax, nt_real *t_out, nt_vec2 *normal_out);
+bool nt_tile_raycast(int tile, nt_vec2 p0, nt_vec2 d, nt_real tmax, nt_real *t_out, nt_vec2 *normal_out);
 
 #ifdef __cplusplus
 }

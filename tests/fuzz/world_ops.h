@@ -71,7 +71,7 @@ static int wops_finite2(nt_vec2 v) { return isfinite((double)v.x) && isfinite((d
 static int wops_room_near(const nt_world *w, nt_vec2 p, nt_shape shape, nt_real cell)
 {
     const nt_map *m = nt_world_get_map(w);
-    int W = nt_map_width(m), H = nt_map_height(m);
+    int W = nt_map_get_width(m), H = nt_map_get_height(m);
     if (shape.half.x > cell / 2 || shape.half.y > cell / 2) {
         double q = (double)cell / 2, hx = (double)shape.half.x, hy = (double)shape.half.y;
         for (double y = hy; y <= H * (double)cell - hy; y += q)

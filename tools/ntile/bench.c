@@ -81,10 +81,10 @@ static double narrow_work(const void *ctx, long reps)
             nt_real sum = 0;
             if (set->circle) {
                 for (int i = 0; i < NARROW_PLACEMENTS; i++)
-                    if (nt_collide_tile_circle(tile, p[i].c, p[i].h.x, &m)) sum += m.depth;
+                    if (nt_tile_collide_circle(tile, p[i].c, p[i].h.x, &m)) sum += m.depth;
             } else {
                 for (int i = 0; i < NARROW_PLACEMENTS; i++)
-                    if (nt_collide_tile_aabb(tile, p[i].c, p[i].h, &m)) sum += m.depth;
+                    if (nt_tile_collide_aabb(tile, p[i].c, p[i].h, &m)) sum += m.depth;
             }
             acc += (double)sum;
         }
@@ -105,7 +105,7 @@ static int narrow_generate(int tile, int circle, uint64_t *rng, placement *out)
         p.c.x = rng_range(rng, -p.h.x, 1 + p.h.x);
         p.c.y = rng_range(rng, -p.h.y, 1 + p.h.y);
         nt_mtv m;
-        bool hit = circle ? nt_collide_tile_circle(tile, p.c, p.h.x, &m) : nt_collide_tile_aabb(tile, p.c, p.h, &m);
+        bool hit = circle ? nt_tile_collide_circle(tile, p.c, p.h.x, &m) : nt_tile_collide_aabb(tile, p.c, p.h, &m);
         if (hit) out[i++] = p;
     }
     return 1;

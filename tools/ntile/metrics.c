@@ -46,14 +46,14 @@ nt_map *metrics_scene_map(const scene *s)
 
 double metrics_penetration(const nt_map *map, const scene_body *b, double x, double y)
 {
-    return (double)nt_map_overlap_depth(map, nt_v2(R(x), R(y)), body_shape(b)) / (double)nt_map_cell_size(map);
+    return (double)nt_map_overlap_depth(map, nt_v2(R(x), R(y)), body_shape(b)) / (double)nt_map_get_cell_size(map);
 }
 
 int metrics_centre_in_solid(const nt_map *map, double x, double y)
 {
-    double cs = (double)nt_map_cell_size(map);
+    double cs = (double)nt_map_get_cell_size(map);
     double u = x / cs, v = y / cs;
-    if (!(u > 0 && v > 0 && u < nt_map_width(map) && v < nt_map_height(map))) return 1; /* outside (or NaN) */
+    if (!(u > 0 && v > 0 && u < nt_map_get_width(map) && v < nt_map_get_height(map))) return 1; /* outside (or NaN) */
     int cx = (int)floor(u), cy = (int)floor(v);
     return nt_tile_contains_point(nt_map_get_tile(map, cx, cy), nt_v2(R(u - cx), R(v - cy)));
 }

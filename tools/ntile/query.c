@@ -393,7 +393,7 @@ static void cmd_tile(query *q)
     placed p;
     if (!parse_shape(q, 2, "tile NAME", 1, &p)) return;
     nt_mtv m;
-    bool hit = nt_collide_tile_shape(tile, p.pos, p.shape, &m);
+    bool hit = nt_tile_collide_shape(tile, p.pos, p.shape, &m);
     put_mtv(q, hit, &m);
 }
 

@@ -9,7 +9,7 @@
  *     per side, class e0 OFF, e1 SOLID, e2 INTERESTING, as the nt_edge values);
  *   - sample boxes and circles overlapping the tile, each a <g class="sample">: the
  *     object (class "obj"), its projection vector (class "pv", the path
- *     "M cx cy l dx dy" where (dx, dy) is exactly nt_collide_tile_aabb/circle's
+ *     "M cx cy l dx dy" where (dx, dy) is exactly nt_tile_collide_aabb/circle's
  *     normal * depth), its resolved position (class "res", dashed: nt_map_resolve of
  *     the object against the tile alone in a 5 x 5 map) and, at the resolved
  *     position, each contact normal the resolution reports (class "cn", drawn from
@@ -112,7 +112,7 @@ static sample place(int circle, nt_vec2 p, nt_vec2 n, double depth, double r)
 
 static int overlaps(int tile, const sample *s, nt_mtv *m)
 {
-    return s->circle ? nt_collide_tile_circle(tile, s->c, s->half.x, m) : nt_collide_tile_aabb(tile, s->c, s->half, m);
+    return s->circle ? nt_tile_collide_circle(tile, s->c, s->half.x, m) : nt_tile_collide_aabb(tile, s->c, s->half, m);
 }
 
 /* One object per straight side (boxes and circles alternating), two on an arc, and a
@@ -320,7 +320,7 @@ static void legend_panel(FILE *f, double x0, double y0)
           f);
     static const char *const rows[][2] = {
         {"obj", "sample object (box or circle) overlapping the tile"},
-        {"pv", "projection vector: nt_collide_tile_aabb / _circle, the tile alone"},
+        {"pv", "projection vector: nt_tile_collide_aabb / _circle, the tile alone"},
         {"res", "resolved position: nt_map_resolve, the tile alone in a 5\xc3\x97" "5 map"},
         {"cn", "contact normal of the resolution, at the contact point"},
         {"e1", "SOLID edge"},

@@ -90,7 +90,7 @@ int cli_soak(int argc, char **argv)
         return CLI_USAGE;
     }
     const nt_map *map = nt_world_get_map(w);
-    double cell = (double)nt_map_cell_size(map), mw = nt_map_width(map) * cell, mh = nt_map_height(map) * cell;
+    double cell = (double)nt_map_get_cell_size(map), mw = nt_map_get_width(map) * cell, mh = nt_map_get_height(map) * cell;
     double g = (double)nt_world_get_gravity(w).y;
     /* Energy scale: every body lifted across the whole map. */
     double mass = 0;
