@@ -1360,6 +1360,19 @@ nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
     return NT_OK;
 }
 
+/* A way out d found by a search rather than from the tiles' surfaces: one contact
+ * along it, at the object's own cell. */
+static void set_escape(nt_resolution *res, nt_vec2 p, nt_vec2 d)
+{
+    nt_real l = nt__len(d);
+    res->push = d;
+    res->contact_count = 1;
+    res->contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+    res->contacts[0].depth = l;
+    res->contacts[0].cell_x = nt__floor_int(p.x);
+    res->contacts[0].cell_y = nt__floor_int(p.y);
+}
+
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
     nt_resolution res;
@@ -1385,14 +1398,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     if (p.x < (nt_real)VX0(vm) - 2 || p.y < (nt_real)VY0(vm) - 2 || p.x > (nt_real)VX1(vm) + 2 ||
         p.y > (nt_real)VY1(vm) + 2) {
         /* Far inside the border: come back into the map first. */
-        nt_vec2 d = escape(vm, p, shape, h);
-        res.push = d;
-        nt_real l = nt__len(d);
-        res.contact_count = 1;
-        res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-        res.contacts[0].depth = l;
-        res.contacts[0].cell_x = nt__floor_int(p.x);
-        res.contacts[0].cell_y = nt__floor_int(p.y);
+        set_escape(&res, p, escape(vm, p, shape, h));
         to_world(&res, vm, cell);
         if (out) *out = res;
         return true;
@@ -1434,12 +1440,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         if (l > (nt_real)0.8 && l < (nt_real)2 && enumerate(vm, p, shape, h, l * (nt_real)1.0001 + (nt_real)(1e-6), &x)) {
             res = x;
         } else {
-            res.push = d;
-            res.contact_count = 1;
-            res.contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-            res.contacts[0].depth = l;
-            res.contacts[0].cell_x = nt__floor_int(p.x);
-            res.contacts[0].cell_y = nt__floor_int(p.y);
+            set_escape(&res, p, d);
         }
     }
     to_world(&res, vm, cell);

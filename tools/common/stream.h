@@ -1,5 +1,5 @@
-/* Reading a whole stream into memory: the one loop the ntile CLI, the playground and
- * the Tiled importer share (each words its own messages). Header only, so that each
+/* Reading a whole stream into memory, and reading and writing whole files: what the
+ * ntile CLI, the playground and the Tiled importer share. Header only, so that each
  * program keeps its own link line. */
 #ifndef NTILE_TOOLS_STREAM_H
 #define NTILE_TOOLS_STREAM_H
@@ -92,6 +92,57 @@ static inline FILE *stream_open_regular(const char *path, size_t limit, char *wh
         return NULL;
     }
     return f;
+}
+
+/* Reads the whole file at `path` ("-": standard input, when allow_stdin) into a
+ * NUL-terminated buffer from malloc: 1, or 0 with *out NULL and why saying what went
+ * wrong, naming the path. */
+static inline int stream_read_file(const char *path, int allow_stdin, char **out, size_t *len, char *why, size_t cap)
+{
+    *out = NULL;
+    *len = 0;
+    FILE *f = allow_stdin && strcmp(path, "-") == 0 ? stdin : stream_open_regular(path, STREAM_MAX_FILE, why, cap);
+    if (!f) return 0;
+    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
+    if (f != stdin) fclose(f);
+    if (r == STREAM_NO_MEMORY) {
+        snprintf(why, cap, "out of memory reading '%s' (or larger than %zu bytes)", path, STREAM_MAX_FILE);
+        return 0;
+    }
+    if (r == STREAM_READ_ERROR) {
+        snprintf(why, cap, "error reading '%s'", path);
+        return 0;
+    }
+    return 1;
+}
+
+/* Writes data to `path` through a sibling file renamed over it, so that a failed write
+ * leaves the old file as it was: 1, or 0 and why. `tag` makes the sibling's name
+ * (path.tmpTAG) differ between writers. */
+static inline int stream_write_file(const char *path, const char *data, size_t len, long tag, char *why, size_t cap)
+{
+    size_t pl = strlen(path);
+    char *tmp = malloc(pl + 32);
+    if (!tmp) {
+        snprintf(why, cap, "out of memory writing '%.300s'", path);
+        return 0;
+    }
+    snprintf(tmp, pl + 32, "%s.tmp%ld", path, tag);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        snprintf(why, cap, "cannot write '%.300s': %s", path, strerror(errno));
+        free(tmp);
+        return 0;
+    }
+    int ok = fwrite(data, 1, len, f) == len;
+    ok = (fclose(f) == 0) && ok;
+    if (ok && rename(tmp, path) != 0) ok = 0;
+    if (!ok) {
+        snprintf(why, cap, "cannot write '%.300s': %s", path, strerror(errno));
+        remove(tmp);
+    }
+    free(tmp);
+    return ok;
 }
 
 #endif

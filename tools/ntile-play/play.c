@@ -101,17 +101,7 @@ int pg_parse_gizmos(const char *list, unsigned *out, char *why, size_t cap)
 
 static int read_file(const char *path, char **out, size_t *len, char *why, size_t cap)
 {
-    *out = NULL;
-    *len = 0;
-    FILE *f = stream_open_regular(path, STREAM_MAX_FILE, why, cap);
-    if (!f) return 0;
-    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
-    fclose(f);
-    if (r != STREAM_OK) {
-        snprintf(why, cap, "cannot read '%s'%s", path, r == STREAM_NO_MEMORY ? ": out of memory or too large" : "");
-        return 0;
-    }
-    return 1;
+    return stream_read_file(path, 0, out, len, why, cap);
 }
 
 /* out = a + b + c; 0 (and out empty) when it does not fit. */
@@ -126,29 +116,9 @@ static int join(char *out, size_t cap, const char *a, const char *b, const char 
     return 1;
 }
 
-/* Write through a temporary sibling and rename: a failed write leaves the old file. */
 static int write_file(const char *path, const char *data, size_t len, char *why, size_t cap)
 {
-    char tmp[PG_PATH_MAX + 32];
-    char suffix[32];
-    snprintf(suffix, sizeof suffix, ".tmp%ld", (long)getpid());
-    if (!join(tmp, sizeof tmp, path, suffix, "")) {
-        snprintf(why, cap, "cannot write '%.200s': the name is too long", path);
-        return 0;
-    }
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        snprintf(why, cap, "cannot write '%s': %s", path, strerror(errno));
-        return 0;
-    }
-    int ok = fwrite(data, 1, len, f) == len;
-    ok = fclose(f) == 0 && ok;
-    if (ok && rename(tmp, path) != 0) ok = 0;
-    if (!ok) {
-        snprintf(why, cap, "cannot write '%s': %s", path, strerror(errno));
-        remove(tmp);
-    }
-    return ok;
+    return stream_write_file(path, data, len, (long)getpid(), why, cap);
 }
 
 static int file_exists(const char *path)

@@ -31,49 +31,12 @@
 
 int cli_read_file(const char *path, char **out, size_t *len, char *why, size_t why_cap)
 {
-    *out = NULL;
-    *len = 0;
-    FILE *f = strcmp(path, "-") == 0 ? stdin : stream_open_regular(path, STREAM_MAX_FILE, why, why_cap);
-    if (!f) return 0;
-    int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
-    if (f != stdin) fclose(f);
-    if (r == STREAM_NO_MEMORY) {
-        snprintf(why, why_cap, "out of memory reading '%s' (or larger than %zu bytes)", path, STREAM_MAX_FILE);
-        return 0;
-    }
-    if (r == STREAM_READ_ERROR) {
-        snprintf(why, why_cap, "error reading '%s'", path);
-        return 0;
-    }
-    return 1;
+    return stream_read_file(path, 1, out, len, why, why_cap);
 }
 
 int cli_write_file(const char *path, const char *data, size_t len, char *why, size_t why_cap)
 {
-    /* Write a sibling file and rename it over the target: a failed write leaves the
-     * old file as it was. */
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + 16);
-    if (!tmp) {
-        snprintf(why, why_cap, "out of memory writing '%s'", path);
-        return 0;
-    }
-    snprintf(tmp, pl + 16, "%s.tmp%ld", path, (long)(clock() % 100000));
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        snprintf(why, why_cap, "cannot write '%s': %s", tmp, strerror(errno));
-        free(tmp);
-        return 0;
-    }
-    int ok = fwrite(data, 1, len, f) == len;
-    ok = (fclose(f) == 0) && ok;
-    if (ok && rename(tmp, path) != 0) ok = 0;
-    if (!ok) {
-        snprintf(why, why_cap, "cannot write '%s': %s", path, strerror(errno));
-        remove(tmp);
-    }
-    free(tmp);
-    return ok;
+    return stream_write_file(path, data, len, (long)(clock() % 100000), why, why_cap);
 }
 
 /* "dir/of/replay.ntr" + "../levels/x.ntl" -> "dir/of/../levels/x.ntl" (absolute paths stay). */
