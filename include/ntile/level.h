@@ -10,8 +10,124 @@
  * Parsers take a name (used in messages only), a buffer and its length: nothing
  * here touches the file system. A parser that fails returns NT_ERR_PARSE (or
  * NT_ERR_OUT_OF_MEMORY), sets *out to NULL, frees everything it built, and fills an
- * nt_text_error with "NAME:LINE:COL: message". The format is described in README.md
- * ("Levels: the .ntl format").
+ * nt_text_error with "NAME:LINE:COL: message" pointing at the field at fault, e.g.
+ *     levels/x.ntl:7:3: unknown tile code 'z' (expected '.', '#' or an N code '2'..'Q', see the legend)
+ *     levels/x.ntl:12:23: radius '99' is larger than the largest half-size, 4 cells (96)
+ *     levels/x.ntl:14:6: duplicate name 'lift' (first defined at line 11)
+ *     levels/x.ntl:26:1: unexpected end of file: the 'tiles' block has 20 of 25 rows
+ *
+ * THE .ntl FORMAT (version NT_LEVEL_VERSION)
+ *
+ * Text, one statement a line, fields separated by spaces. '#' starts a comment to
+ * the end of the line (outside grid rows, where '#' is the FULL tile). Strings are
+ * "quoted" (no escapes, no '"' inside). Numbers are decimal (finite: nan, inf and
+ * 1e999 are errors); category and mask also take 0x hex. A UTF-8 byte order mark at
+ * the start is skipped (columns count from after it). Order: the header line,
+ * settings, the grid blocks, then objects.
+ *
+ *     ntile-level 1
+ *
+ * Settings (before `tiles`, each at most once; [default]):
+ *     title "TEXT"                    [""]      at most NT_LEVEL_TEXT_MAX - 1 bytes
+ *     author "TEXT"                   [""]
+ *     size W H                        required  cells, 1..NT_MAP_MAX_SIDE (4096)
+ *     cell S                          [24]      world units per cell,
+ *                                               NT_MIN_CELL_SIZE..NT_MAX_CELL_SIZE
+ *     gravity X Y                     [0 320]   units/s^2, y down; each part within NT_MAX_GRAVITY
+ *     friction-model n|coulomb        [n]       N's rule or Coulomb's (world.h)
+ *     sleep on|off                    [on]
+ *     seed N                          [1]       the game layer's random source
+ *     material I FRICTION BOUNCE      [0.05 0.3] tile material I in 0..15 (NT_MAX_MATERIALS);
+ *                                               unset ones copy material 0; friction at
+ *                                               most 1 under the n model
+ *     body-material FRICTION BOUNCE   [0.05 0.3] bodies' default material
+ *     body-drag D                     [0]       bodies' default linear drag
+ *
+ * Grid blocks: a keyword line, then exactly H rows of the form |CODES| with W codes
+ * (blank lines and comment lines may sit between rows). `tiles` is required;
+ * `materials` and `flags` are optional and follow it, same shape.
+ *     tiles       '.' EMPTY, '#' FULL, any other tile by N's code '0' + id:
+ *                 '2'..'5' 45DEG pn nn np pp, '6'..'9' CONCAVE, ':' ';' '<' '=' CONVEX,
+ *                 '>' '?' '@' 'A' 22DEG..S, 'B'..'E' 22DEG..B, 'F'..'I' 67DEG..S,
+ *                 'J'..'M' 67DEG..B, 'N' HALFd, 'O' HALFr, 'P' HALFu, 'Q' HALFl
+ *                 (nt_level_tile_char, nt_level_tile_from_char; ids and names in tiles.h)
+ *     materials   '.' material 0, '1'..'9' and 'a'..'f' materials 1..15
+ *     flags       '.' none, '-' one-way (the cell stops bodies from above only)
+ *
+ * Objects (after the grids). Names: a letter or '_', then letters, digits, '_', '-',
+ * '.', at most NT_LEVEL_NAME_MAX - 1 characters; one namespace for all objects; a
+ * line can name only objects defined above it.
+ *     player X Y
+ *         the player's spawn (centre)
+ *     region NAME zone|exit|score|kill X0 Y0 X1 Y1 [value N]
+ *         exit: the level is complete when the player's centre enters; score (needs
+ *         value): N points for each dynamic body whose centre enters, which is
+ *         removed; kill: kills the player, removes other bodies; zone: only a name
+ *     path NAME loop|pingpong speed S [wait W] points X Y X Y ...
+ *         2..NT_LEVEL_MAX_PATH_POINTS waypoints; wait: seconds at each
+ *     path NAME orbit speed S center X Y radius R
+ *         a circle, clockwise on screen
+ *     body NAME static|kinematic|dynamic box HW HH|circle R at X Y [OPTIONS]
+ *         half-sizes and radius > 0 and at most NT_MAX_HALF_CELLS (4) cells; a body
+ *         above half a cell (every copy of a repeat) lies wholly inside the map
+ *     spawner NAME TEMPLATE action|every N [start T] limit K [attach BODY]
+ *             [offset DX DY] [jitter J]
+ *         copies of a template body on each press of the action key, or every N
+ *         ticks from tick T; at most K; at BODY's position + offset, else at the
+ *         template's; jitter: a random x velocity in [-J, J] (the level's random source)
+ *
+ * Body options: vel VX VY, mass M, material FRICTION BOUNCE, drag D,
+ * gravity-scale S, category C, mask M, sensor, no-sleep, asleep,
+ * path NAME [phase P] (kinematic bodies; P in [0, 1) of the path's cycle),
+ * score N (a sensor the player collects), deadly (touching it kills the player),
+ * template (not created; for spawners), repeat NX NY DX DY (NX x NY copies, DX DY
+ * apart; at most NT_LEVEL_MAX_BODIES instances in a level, repeats counted).
+ *
+ * A small complete level:
+ *     ntile-level 1
+ *     title "Hello"
+ *     size 8 5
+ *     material 1 0.05 1
+ *     tiles
+ *     |########|
+ *     |#......#|
+ *     |#...2..#|
+ *     |#..2##P#|
+ *     |########|
+ *     materials
+ *     |........|
+ *     |........|
+ *     |........|
+ *     |......1.|
+ *     |........|
+ *     flags
+ *     |........|
+ *     |........|
+ *     |........|
+ *     |......-.|
+ *     |........|
+ *     player 36 86
+ *     region door exit 144 48 168 96
+ *     path lift pingpong speed 40 wait 1 points 60 100 60 40
+ *     body coin static circle 6 at 100 86 sensor score 1
+ *     body lift1 kinematic box 12 4 at 60 100 path lift
+ *     body ball dynamic circle 5 at 0 0 template
+ *     spawner dropper ball every 40 limit 3 attach lift1 offset 0 -12
+ *
+ * nt_level_write gives the canonical text: settings in a fixed order, defaults left
+ * out, numbers in their shortest exact form, comments not kept; parse, write, parse
+ * gives the same level and the same text.
+ *
+ * N v1.4 IMPORT (nt_level_import_n14). A level is one line $NAME#AUTHOR##TILES|OBJECTS#:
+ * 713 tile characters for the 31 x 23 playable cells, column by column, then
+ * TYPE^X,Y,... objects in pixels of the 33 x 25 grid. The result is a 33 x 25 level of
+ * 24-unit cells with the one-cell FULL border. Objects: player spawn (5) -> player;
+ * exit door (11) -> region "exit" (one cell around the door) and zone "switch" (the
+ * exit is open from the start); gold (0) -> static sensor circle r 6, score 1; mine
+ * (12) -> static deadly sensor circle r 4; bounce block (1) -> dynamic box 9.6 x 9.6;
+ * launch pad (2) -> the tile behind it gets material 1 (bounce 1); one-way platform
+ * (7) facing up (N's direction 3) -> a one-way HALFu cell. Other directions and every
+ * other type (drones, thwumps, ...) are skipped with a warning "NAME:LINE:COL: warning: ...".
  */
 #ifndef NTILE_LEVEL_H
 #define NTILE_LEVEL_H

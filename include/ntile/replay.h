@@ -6,8 +6,69 @@
  * least K", "no body inside solid", "momentum conserved within X", ...) and state
  * hashes at chosen ticks, optionally with a per-tick trace of 32-bit hashes that
  * locates the first tick where a run diverges. Running one is the game layer's job
- * (ntile/game.h); this part is plain data and text, with no file system access.
- * The format is described in README.md ("Replays: the .ntr format").
+ * (nt_run_replay in ntile/game.h; `ntile run` on the command line); this part is
+ * plain data and text, with no file system access. Errors are reported as by the
+ * level parser (level.h): "NAME:LINE:COL: message" in an nt_text_error.
+ *
+ * THE .ntr FORMAT (version NT_REPLAY_VERSION)
+ *
+ * Text, one statement a line, fields separated by spaces, '#' starts a comment; a
+ * UTF-8 byte order mark at the start is skipped. The first line is the header:
+ *     ntile-replay 1
+ * Settings, each at most once, in any order:
+ *     level PATH                      required: the .ntl file, relative to this file
+ *     ticks N                         required, before any input, expect, hash or
+ *                                     trace line: 1..NT_REPLAY_MAX_TICKS
+ *     name NAME                       shown by the runner [the file name]
+ *     seed N                          overrides the level's seed
+ *     dt SECONDS                      seconds per tick, NT_MIN_DT..NT_MAX_DT [1/40]
+ *     friction-model n|coulomb        overrides the level's model
+ * PATH and NAME are bare words or "quoted" (no escapes, no '"' inside).
+ *
+ * Inputs (any number of lines, appended in order):
+ *     input COUNTKEYS ...             COUNT ticks holding KEYS: letters L R U D J A
+ *                                     (left, right, up, down, jump, action; the
+ *                                     NT_INPUT_* bits), or '.' for none
+ * "30R 8RJ 12." is 30 ticks of right, 8 of right + jump, 12 of nothing. Ticks after
+ * the last input have no keys. Actions happen on presses: holding J jumps once.
+ *
+ * Facts:
+ *     expect [not] FACT WHEN
+ * WHEN is `at T`, `by T` (at some tick from 0 to T) or `always`; tick 0 is the state
+ * before the first step. FACT is one of
+ *     complete                        the player has reached an exit
+ *     alive                           the player is alive
+ *     inside REGION [body NAME]       the player's (or the level body's) centre is in REGION
+ *     no-body-in-solid                no dynamic body more than 1e-3 cell inside a tile
+ *                                     (one-way cells excluded)
+ *     score OP V                      OP is >=, <= or ==
+ *     bodies OP V                     live bodies
+ *     spawned OP V                    bodies spawned so far
+ *     energy-ratio OP V               kinetic energy of the dynamic bodies / its value at tick 0
+ *     momentum-drift OP V             |P - P0| / sum(m |v0|) over the dynamic bodies
+ *
+ * State hashes, one set per scalar build (float and double builds compute different
+ * bits; a build checks only its own lines), written by `ntile run --record-hashes`:
+ *     hash float|double TICK 0xHHHHHHHHHHHHHHHH    nt_game_hash after tick TICK
+ *     trace float|double FIRST H1 H2 ...           32-bit hashes (8 hex digits, no 0x,
+ *                                                  nt_trace_fold) of ticks FIRST,
+ *                                                  FIRST+1, ...; lines follow on
+ *
+ * Example (tests/replays/ninja.ntr, trace lines cut):
+ *     ntile-replay 1
+ *     name ninja
+ *     level ../../levels/ninja.ntl
+ *     ticks 620
+ *     input 300R 40J 30. 40J 30. 25LJ 15L 30RJ 80R
+ *     expect complete by 600
+ *     expect score >= 7 at 620
+ *     expect alive always
+ *     expect inside lift_top at 262
+ *     expect no-body-in-solid always
+ *     hash float 620 0x37faa18dac3ee1bb
+ *     trace float 1 a994df19 01f53ad5 5a66c872 4c3336b0 a54dc7b9 2b08020c 1badf5f9 6a21770b
+ *
+ * nt_replay_write gives the canonical text (same contract as nt_level_write).
  */
 #ifndef NTILE_REPLAY_H
 #define NTILE_REPLAY_H
