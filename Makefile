@@ -33,7 +33,12 @@
 #   make bench-sweep     run time against error: dt, substeps, iterations, friction model,
 #                        float and double (CSV + SVG in build/sweep/)
 #   make bench-peers     the same scenes in Chipmunk2D 7 and Box2D 2.4 (Debian's
-#                        libchipmunk-dev and libbox2d-dev, installed when missing)
+#                        libbox2d-dev, installed when missing). CHIPMUNK=release (the
+#                        default when it can be built): Chipmunk 7.0.3 built -O2 -DNDEBUG
+#                        from Debian's source package (apt-get source, fetched once as
+#                        root into build/chipmunk-src/; tools/bench-peers/chipmunk-release.sh);
+#                        otherwise, or with CHIPMUNK=debian, Debian's libchipmunk-dev,
+#                        which is built with its debug assertions on (slower)
 #
 # Replays must be bit-identical across optimisation levels and compilers, so the
 # floating-point flags are fixed: -ffp-contract=off always, never -ffast-math.
@@ -117,7 +122,7 @@ endif
 
 .PHONY: all help lib cli play play-bin screenshot test asan valgrind determinism fuzz soak run clean deps-cc \
         deps-test deps-cxx deps-pkgconfig deps-tiled install uninstall check-install check-headers sheet \
-        bench bench-instructions bench-sweep bench-peers deps-peers tiles
+        bench bench-instructions bench-sweep bench-peers deps-peers tiles FORCE
 .DEFAULT_GOAL := all
 # Keep objects of tests (make would delete them as intermediates).
 .SECONDARY:
@@ -319,11 +324,42 @@ bench-sweep: $(BUILD)/ntile
 
 # Peers: C for everything but the one C++ shim Box2D 2.4 needs (compiled with CXX).
 CXX ?= g++
-PEER_SRC := $(wildcard tools/bench-peers/*.c)
-PEER_OBJ := $(PEER_SRC:%.c=$(OBJ)/%.o) $(OBJ)/tools/bench-peers/box2d_shim.o
+# Chipmunk: CHIPMUNK=release links $(BUILD)/chipmunk-release/libchipmunk.a (7.0.3 from
+# Debian's source package, -O2 -DNDEBUG: tools/bench-peers/chipmunk-release.sh, which
+# fetches the source once, as root); CHIPMUNK=debian links Debian's libchipmunk-dev
+# (debug assertions on). CHIPMUNK=auto (the default): make bench-peers tries the release
+# build and falls back to Debian's with a notice; other targets take the release build
+# when it is already there. Only chipmunk.c depends on the choice (its object is named
+# after it) and build/bench-peers is relinked when the choice changes.
+CHIPMUNK ?= auto
+CHIPMUNK_RELEASE := $(BUILD)/chipmunk-release
+CHIPMUNK_USE := $(if $(filter auto,$(CHIPMUNK)),$(if $(wildcard $(CHIPMUNK_RELEASE)/libchipmunk.a),release,debian),$(CHIPMUNK))
+ifeq ($(CHIPMUNK_USE),release)
+CHIPMUNK_CFLAGS := -I$(CHIPMUNK_RELEASE)/include -DPEERS_CHIPMUNK_RELEASE
+CHIPMUNK_LIBS := $(CHIPMUNK_RELEASE)/libchipmunk.a
+CHIPMUNK_PREREQ := $(CHIPMUNK_RELEASE)/libchipmunk.a
+CHIPMUNK_DEP :=
+else ifeq ($(CHIPMUNK_USE),debian)
+CHIPMUNK_CFLAGS :=
+CHIPMUNK_LIBS := -lchipmunk
+CHIPMUNK_PREREQ :=
+CHIPMUNK_DEP := chipmunk
+else
+$(error CHIPMUNK must be release, debian or auto (not '$(CHIPMUNK)'))
+endif
+PEER_SRC := $(filter-out tools/bench-peers/chipmunk.c,$(wildcard tools/bench-peers/*.c))
+PEER_OBJ := $(PEER_SRC:%.c=$(OBJ)/%.o) $(OBJ)/tools/bench-peers/chipmunk-$(CHIPMUNK_USE).o \
+            $(OBJ)/tools/bench-peers/box2d_shim.o
 BENCH_SHARED_OBJ := $(addprefix $(OBJ)/tools/ntile/,scene.o metrics.o engine_ntile.o bench_run.o bench_common.o geometry.o)
 deps-peers:
-	@tools/deps.sh cc cxx chipmunk box2d
+	@tools/deps.sh cc cxx $(CHIPMUNK_DEP) box2d
+
+$(CHIPMUNK_RELEASE)/libchipmunk.a: tools/bench-peers/chipmunk-release.sh
+	@CC="$(CC)" sh tools/bench-peers/chipmunk-release.sh $(BUILD)
+
+$(OBJ)/tools/bench-peers/chipmunk-$(CHIPMUNK_USE).o: tools/bench-peers/chipmunk.c $(CHIPMUNK_PREREQ) | deps-peers
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(CHIPMUNK_CFLAGS) -Itools/ntile -MMD -MP -c $< -o $@
 
 $(OBJ)/tools/bench-peers/%.o: tools/bench-peers/%.c | deps-peers
 	@mkdir -p $(dir $@)
@@ -333,11 +369,25 @@ $(OBJ)/tools/bench-peers/box2d_shim.o: tools/bench-peers/box2d_shim.cpp | deps-p
 	@mkdir -p $(dir $@)
 	$(CXX) -std=c++11 $(OPT) $(filter-out -Wmissing-prototypes,$(WARN)) -ffp-contract=off -MMD -MP -c $< -o $@
 
-$(BUILD)/bench-peers: $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a
-	$(CXX) $(LDFLAGS_ALL) -o $@ $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a -lchipmunk -lbox2d $(LIBS)
+# The Chipmunk build/bench-peers was last linked with, rewritten only when it changes.
+$(BUILD)/bench-peers.chipmunk: FORCE
+	@mkdir -p $(dir $@)
+	@[ "$$(cat $@ 2>/dev/null)" = "$(CHIPMUNK_USE)" ] || echo "$(CHIPMUNK_USE)" >$@
 
-bench-peers: deps-peers $(BUILD)/bench-peers
+$(BUILD)/bench-peers: $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a $(BUILD)/bench-peers.chipmunk
+	$(CXX) $(LDFLAGS_ALL) -o $@ $(PEER_OBJ) $(BENCH_SHARED_OBJ) $(BUILD)/libntile.a $(CHIPMUNK_LIBS) -lbox2d $(LIBS)
+
+bench-peers:
+	@mode=$(CHIPMUNK); \
+	if [ "$$mode" = auto ]; then \
+	  if CC="$(CC)" sh tools/bench-peers/chipmunk-release.sh $(BUILD); then mode=release; else mode=debian; \
+	    echo "ntile: notice: no release build of Chipmunk (above); comparing against Debian's libchipmunk-dev," \
+	         "which is built with its debug assertions on (slower than a release build)"; fi; \
+	fi; \
+	$(MAKE) --no-print-directory CHIPMUNK=$$mode $(BUILD)/bench-peers
 	$(BUILD)/bench-peers --runs $(RUNS)
+
+FORCE:
 
 # The quick start: the playground on the default level. SDL2 is installed first when
 # missing (as root; otherwise the apt-get command is printed), then make runs again so

@@ -134,4 +134,18 @@ static int cp_awake(void *p)
     return n;
 }
 
+/* The Makefile defines PEERS_CHIPMUNK_RELEASE when it links the release build
+ * (tools/bench-peers/chipmunk-release.sh); Debian's library prints a start-up line
+ * "(Debug Enabled)" at the first cpSpaceNew. */
+#ifdef PEERS_CHIPMUNK_RELEASE
+const char chipmunk_build[] = "release build (-O2 -DNDEBUG) of Debian's source package";
+#else
+const char chipmunk_build[] = "Debian's libchipmunk-dev, built with its debug assertions on";
+#endif
+
+const char *chipmunk_version(void)
+{
+    return cpVersionString;
+}
+
 const engine engine_chipmunk = {"chipmunk", cp_create, cp_step, cp_read, cp_awake, cp_destroy};

@@ -87,6 +87,7 @@ static int tune(int runs, int bodies)
         {"b5", 8, 3, 2, -1, 0}, {"b6", 8, 3, 4, -1, 1}, {"b7", 8, 3, 4, -1, 0}, {"b8", 8, 3, 8, -1, 1}};
     const char *names[] = {"rain", "particles"};
     engine_setting none = {"ntile", 0, 0, 1, -1, 0};
+    printf("# Chipmunk %s: %s\n", chipmunk_version(), chipmunk_build);
     for (int k = 0; k < 2; k++) {
         scene s;
         if (!scene_make(names[k], bodies, &s)) return 2;
@@ -159,6 +160,7 @@ int main(int argc, char **argv)
     printf("# bench-peers: ntile (%s) against Chipmunk2D 7.0.3 and Box2D 2.4.1, no rotation, same scenes; median of "
            "%d runs; rain and particles with %d bodies\n",
            SCALAR_NAME, runs, bodies);
+    printf("# Chipmunk %s: %s\n", chipmunk_version(), chipmunk_build);
     for (int p = 0; p < NPEERS; p++) {
         char a[200], b[200];
         print_setting(peers[p].e, &peers[p].def, a, sizeof a);

@@ -6,5 +6,8 @@
 
 extern const engine engine_chipmunk;
 extern const engine engine_box2d;
+/* Which Chipmunk library this program is linked with (the Makefile's CHIPMUNK). */
+extern const char chipmunk_build[];
+const char *chipmunk_version(void); /* the library's own cpVersionString */
 
 #endif
