@@ -290,6 +290,23 @@ nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
     return NT_OK;
 }
 
+nt_status nt_world_set_iterations(nt_world *w, int velocity_iterations, int position_iterations)
+{
+    NT__CHECK_LOCK(w);
+    if (!w) return NT_ERR_INVALID_ARGUMENT;
+    if (velocity_iterations < 1 || velocity_iterations > 64 || position_iterations < 0 || position_iterations > 64)
+        return NT_ERR_OUT_OF_RANGE;
+    w->def.velocity_iterations = velocity_iterations;
+    w->def.position_iterations = position_iterations;
+    return NT_OK;
+}
+
+void nt_world_get_iterations(const nt_world *w, int *velocity_iterations, int *position_iterations)
+{
+    if (velocity_iterations) *velocity_iterations = w ? w->def.velocity_iterations : 0;
+    if (position_iterations) *position_iterations = w ? w->def.position_iterations : 0;
+}
+
 /* ---------------------------------------------------------------- tiles and cells */
 
 int nt_world_get_tile(const nt_world *w, int x, int y) { return w ? nt_map_get_tile(w->map, x, y) : NT_TILE_FULL; }

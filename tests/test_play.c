@@ -1465,6 +1465,43 @@ static void test_panel_checkbox_click(void **state)
 }
 
 
+/* The panel's iteration steppers set the world's solver iterations live: a scripted
+ * click on the velocity iterations' "+" doubles them (8 -> 16), as the world reports. */
+static void test_panel_iterations(void **state)
+{
+    (void)state;
+    const char *before = scratch_path("iters.bmp");
+    play_ok((const char *[]){"levels/lab.ntl", "--frames", "2", "--screenshot", before, NULL});
+    image a = load_bmp(before);
+    /* The first heading (World), then its steppers: a "+" box whose right edge stands
+     * 3 pixels in from the widgets' last column (a button's edge is that column). */
+    int y = 0;
+    while (y < a.h && pixel(&a, 1, y) != PG_COLOR_HEADING) y++;
+    while (y < a.h && pixel(&a, 1, y) == PG_COLOR_HEADING) y++;
+    int x1 = PG_PANEL_W - 4, found = 0, plus_y = -1;
+    for (; y + 4 < a.h && found < 2; y++) {
+        if (pixel(&a, x1 - 8, y) == 0x8090a0u && pixel(&a, x1 - 4, y + 3) == 0x8090a0u && pixel(&a, x1 - 1, y + 3) != 0x8090a0u) {
+            found++; /* gravity's, then the velocity iterations' */
+            plus_y = y + 4;
+            y += 6;
+        }
+    }
+    if (found < 2) fail_msg("found %d steppers under the World heading, expected at least 2", found);
+    char script[128];
+    snprintf(script, sizeof script, "2 mouse down left %d %d\n2 mouse up left %d %d\n", x1 - 8, plus_y, x1 - 8, plus_y);
+    scratch_write_text("iters.script", script);
+    run_result r;
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--frames", "6", "--script", scratch_path("iters.script"), NULL});
+    expect_status(&r, 0);
+    if (!strstr(r.out, "iterations 16 4")) fail_msg("expected iterations 16 4 after the click, got: %s", r.out);
+    run_free(&r);
+    run_play(&r, (const char *[]){"levels/lab.ntl", "--frames", "6", NULL});
+    expect_status(&r, 0);
+    if (!strstr(r.out, "iterations 8 4")) fail_msg("expected the default iterations 8 4, got: %s", r.out);
+    run_free(&r);
+    free(a.px);
+}
+
 /* F3 moves the panel to the right of the view, then hides it (the view grows), then
  * brings it back on the left. */
 static void test_panel_moves_and_hides(void **state)
@@ -1686,7 +1723,7 @@ int main(void)
         cmocka_unit_test(test_select_and_drag_body), cmocka_unit_test(test_replay_step_back),
         cmocka_unit_test(test_replay_over_drop_and_divergence), cmocka_unit_test(test_font_descenders),
         cmocka_unit_test(test_circle_outline),      cmocka_unit_test(test_panel_checkbox_click),
-        cmocka_unit_test(test_panel_moves_and_hides),
+        cmocka_unit_test(test_panel_moves_and_hides), cmocka_unit_test(test_panel_iterations),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);

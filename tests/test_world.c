@@ -336,6 +336,60 @@ static void test_ids_name_their_world(void **state)
     nt_world_destroy(w2);
 }
 
+/* A stack of boxes on a floor, for the iteration tests: 12 boxes falling onto each other. */
+static nt_world *iteration_stack(int velocity_iterations, int position_iterations)
+{
+    nt_world_def d = nt_default_world_def();
+    d.map.width = 8;
+    d.map.height = 20;
+    d.map.cell_size = 1;
+    d.gravity = nt_v2(0, 10);
+    d.velocity_iterations = velocity_iterations;
+    d.position_iterations = position_iterations;
+    d.enable_sleep = false;
+    nt_world *w = NULL;
+    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    for (int x = 0; x < 8; x++) assert_int_equal(nt_world_set_tile(w, x, 19, NT_TILE_FULL), NT_OK);
+    for (int k = 0; k < 12; k++) add_box(w, 4, (nt_real)(18.6 - 0.85 * k), R(0.4), R(0.4));
+    return w;
+}
+
+/* Iterations changed on a live world act from the next step exactly as if the world
+ * had been made with them; values out of range are refused and change nothing. */
+static void test_set_iterations(void **state)
+{
+    (void)state;
+    nt_world *a = iteration_stack(8, 4), *b = iteration_stack(1, 0), *c = iteration_stack(8, 4);
+    int vi = -1, pi = -1;
+    nt_world_get_iterations(a, &vi, &pi);
+    assert_int_equal(vi, 8);
+    assert_int_equal(pi, 4);
+    assert_int_equal(nt_world_set_iterations(a, 1, 0), NT_OK);
+    nt_world_get_iterations(a, &vi, &pi);
+    assert_int_equal(vi, 1);
+    assert_int_equal(pi, 0);
+    for (int k = 0; k < 120; k++) {
+        assert_int_equal(nt_world_step(a, R(1.0 / 60)), NT_OK);
+        assert_int_equal(nt_world_step(b, R(1.0 / 60)), NT_OK);
+        assert_int_equal(nt_world_step(c, R(1.0 / 60)), NT_OK);
+    }
+    assert_true(nt_world_hash(a) == nt_world_hash(b)); /* as if made with them */
+    assert_true(nt_world_hash(a) != nt_world_hash(c)); /* and they do change the answer */
+    const int bad[][2] = {{0, 4}, {65, 4}, {8, -1}, {8, 65}};
+    for (int k = 0; k < 4; k++) {
+        assert_int_equal(nt_world_set_iterations(a, bad[k][0], bad[k][1]), NT_ERR_OUT_OF_RANGE);
+        nt_world_get_iterations(a, &vi, &pi);
+        assert_int_equal(vi, 1);
+        assert_int_equal(pi, 0);
+    }
+    assert_int_equal(nt_world_set_iterations(NULL, 8, 4), NT_ERR_INVALID_ARGUMENT);
+    nt_world_get_iterations(NULL, &vi, &pi);
+    assert_int_equal(vi, 0);
+    nt_world_destroy(a);
+    nt_world_destroy(b);
+    nt_world_destroy(c);
+}
+
 static void test_stale_ids(void **state)
 {
     (void)state;
@@ -997,6 +1051,7 @@ int main(void)
         cmocka_unit_test(test_body_create_and_read_back),
         cmocka_unit_test(test_body_def_errors),
         cmocka_unit_test(test_ids_name_their_world),
+        cmocka_unit_test(test_set_iterations),
         cmocka_unit_test(test_stale_ids),
         cmocka_unit_test(test_many_bodies),
         cmocka_unit_test(test_allocator_hook),

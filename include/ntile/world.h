@@ -227,6 +227,13 @@ nt_status nt_world_set_gravity(nt_world *world, nt_vec2 gravity);
 /// The world's gravity.
 nt_vec2 nt_world_get_gravity(const nt_world *world);
 
+/// Change the solver's iterations from the next step: velocity 1..64, position 0..64
+/// (as in nt_world_def), else NT_ERR_OUT_OF_RANGE and nothing changes.
+nt_status nt_world_set_iterations(nt_world *world, int velocity_iterations, int position_iterations);
+
+/// The solver's iterations (zeros for a NULL world).
+void nt_world_get_iterations(const nt_world *world, int *velocity_iterations, int *position_iterations);
+
 /// Number of live bodies.
 int nt_world_get_body_count(const nt_world *world);
 

@@ -639,6 +639,12 @@ static void tick(pg *p)
     /* A replay's inputs while it lasts; then the keyboard takes over. */
     uint32_t keys = p->replay_on && st0.tick < p->replay->ticks ? nt_replay_keys_at(p->replay, st0.tick + 1) : p->keys;
     double t0 = mono_seconds();
+    /* The panel's iterations, on whichever world the game holds now (a rebuild makes a
+     * new one with the defaults). */
+    nt_world *wi = nt_game_get_world(p->game);
+    int vi, pi;
+    nt_world_get_iterations(wi, &vi, &pi);
+    if (vi != p->vel_iters || pi != p->pos_iters) nt_world_set_iterations(wi, p->vel_iters, p->pos_iters);
     nt_status s = nt_game_step(p->game, keys, p->dt);
     double us = (mono_seconds() - t0) * 1e6;
     p->step_us = p->step_us > 0 ? p->step_us * 0.9 + us * 0.1 : us;
@@ -930,6 +936,12 @@ static void record_start(pg *p)
     if (!p->level) return;
     if (p->dt != p->dt_default) {
         say(p, "recording plays the replay format's tick, %g s: choose it in the panel (dt) first", (double)p->dt_default);
+        return;
+    }
+    nt_world_def wdef = nt_default_world_def();
+    if (p->vel_iters != wdef.velocity_iterations || p->pos_iters != wdef.position_iterations) {
+        say(p, "recording plays the engine's default iterations (%d, %d): set them back in the panel first",
+            wdef.velocity_iterations, wdef.position_iterations);
         return;
     }
     /* The replay names a level file: an edited level is saved first, so that the
@@ -1305,6 +1317,18 @@ void pg_command(pg *p, pg_cmd cmd, int arg)
         p->dt = (nt_real)dts[(k + 1) % 4];
         p->acc = 0;
         say(p, "tick %.4g s (%.0f Hz)", (double)p->dt, 1 / (double)p->dt);
+        break;
+    }
+    case PG_CMD_VEL_ITERS:
+    case PG_CMD_POS_ITERS: {
+        if (p->replay_on || p->recording) {
+            say(p, "the iterations are fixed while a replay plays or a recording runs");
+            break;
+        }
+        int *it = cmd == PG_CMD_VEL_ITERS ? &p->vel_iters : &p->pos_iters, lo = cmd == PG_CMD_VEL_ITERS ? 1 : 0;
+        int v = arg > 0 ? (*it == 0 ? 1 : *it * 2) : (*it <= 1 ? 0 : *it / 2);
+        *it = v < lo ? lo : v > 64 ? 64 : v;
+        say(p, "iterations: %d velocity, %d position (from the next tick)", p->vel_iters, p->pos_iters);
         break;
     }
     case PG_CMD_SLEEP:
@@ -2181,6 +2205,9 @@ pg *pg_create(const pg_options *opt, char *why, size_t cap)
         return NULL;
     }
     p->dt = p->dt_default = tmp->dt; /* the replay format's default tick: 1/40 s */
+    nt_world_def wdef = nt_default_world_def();
+    p->vel_iters = wdef.velocity_iterations;
+    p->pos_iters = wdef.position_iterations;
     nt_replay_destroy(tmp);
     if (!is_dir(p->save_dir)) {
         snprintf(why, cap, "--save-dir '%s' is not a directory", p->save_dir);
@@ -2295,6 +2322,11 @@ void pg_summary(const pg *p, char *out, size_t cap)
         n += snprintf(out + n, cap - (size_t)n,
                  "  last collision tick %d: momentum (%.2f, %.2f) -> (%.2f, %.2f), kinetic energy %.1f -> %.1f",
                  p->coll_tick, p->px_before, p->py_before, p->px_after, p->py_after, p->ke_before, p->ke_after);
+    if (n > 0 && (size_t)n < cap && w) {
+        int vi, pi;
+        nt_world_get_iterations(w, &vi, &pi);
+        n += snprintf(out + n, cap - (size_t)n, "  iterations %d %d", vi, pi);
+    }
     char ins[400];
     pg__inspect_body(p, ins, sizeof ins);
     if (n > 0 && (size_t)n < cap && ins[0]) n += snprintf(out + n, cap - (size_t)n, "  selected %s", ins);

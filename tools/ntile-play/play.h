@@ -75,6 +75,8 @@ typedef enum pg_cmd {
     PG_CMD_GRAVITY,     /* arg: +1 / -1: gravity's y by a tenth of the level's (or 32) */
     PG_CMD_DT,          /* cycle the tick: 1/40, 1/60, 1/120, 1/20 s */
     PG_CMD_SLEEP,       /* sleeping on / off (rebuilds the world) */
+    PG_CMD_VEL_ITERS,   /* arg: +1 / -1: velocity iterations 1, 2, 4 ... 64 (live) */
+    PG_CMD_POS_ITERS,   /* arg: +1 / -1: position iterations 0, 1, 2, 4 ... 64 (live) */
     PG_CMD_UNDO,
     PG_CMD_REDO,
     PG_CMD_CONFIRM,     /* arg: 1 yes (discard and go on), 0 no (keep the edits), 2 save first */

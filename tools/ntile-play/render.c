@@ -760,8 +760,10 @@ static void draw_panel(pg *p, pg_canvas *c, double fps, int ts)
     stepper(&k, buf, PG_CMD_GRAVITY);
     snprintf(buf, sizeof buf, "dt %.4g s (%.0f Hz)", (double)p->dt, 1.0 / (double)p->dt);
     button(&k, buf, "change", PG_CMD_DT, 0);
-    nt_world_def wd = nt_default_world_def();
-    linef(&k, PG_COLOR_TEXT, "iterations %d velocity, %d position", wd.velocity_iterations, wd.position_iterations);
+    snprintf(buf, sizeof buf, "velocity iterations %d", p->vel_iters);
+    stepper(&k, buf, PG_CMD_VEL_ITERS);
+    snprintf(buf, sizeof buf, "position iterations %d", p->pos_iters);
+    stepper(&k, buf, PG_CMD_POS_ITERS);
     checkbox(&k, lv->enable_sleep, "sleep (rebuilds the world)", PG_CMD_SLEEP, 0);
     button(&k, "friction model (F)", model_name(lv->friction_model), PG_CMD_FRICTION_MODEL, 0);
 

@@ -44,6 +44,7 @@ struct pg {
     nt_game *game;
     nt_game_def gdef;
     nt_real dt, dt_default; /* the tick: the replay's while one plays, else the format's 1/40 s */
+    int vel_iters, pos_iters; /* the solver's iterations, set on every world before it steps */
 
     /* Replay playback (--replay): its inputs drive the game. */
     nt_replay *replay;
