@@ -59,10 +59,13 @@
  * line can name only objects defined above it.
  *     player X Y
  *         the player's spawn (centre)
- *     region NAME zone|exit|score|kill X0 Y0 X1 Y1 [value N]
- *         exit: the level is complete when the player's centre enters; score (needs
+ *     region NAME zone|exit|score|kill|switch X0 Y0 X1 Y1 [value N] [needs SWITCH]
+ *         exit: the level is complete when the player's centre enters (with needs
+ *         SWITCH, a switch region above it: only once that switch is on); score (needs
  *         value): N points for each dynamic body whose centre enters, which is
- *         removed; kill: kills the player, removes other bodies; zone: only a name
+ *         removed; kill: kills the player, removes other bodies; switch: goes on for
+ *         good when the player's centre enters, opening its exits and doors; zone:
+ *         only a name
  *     path NAME loop|pingpong speed S [wait W] points X Y X Y ...
  *         2..NT_LEVEL_MAX_PATH_POINTS waypoints; wait: seconds at each
  *     path NAME orbit speed S center X Y radius R
@@ -82,6 +85,13 @@
  * score N (a sensor the player collects), deadly (touching it kills the player),
  * template (not created; for spawners), repeat NX NY DX DY (NX x NY copies, DX DY
  * apart; at most NT_LEVEL_MAX_BODIES instances in a level, repeats counted).
+ * Doors, one of (solid static or kinematic bodies, not sensors or templates):
+ * door (goes away when the player touches it), opened-by SWITCH (a locked door:
+ * solid until the switch region is on, then gone), closed-by SWITCH (a trap door:
+ * collides with nothing until the switch is on, then solid). one-way
+ * right|down|left|up (a solid static or kinematic body, not a door: solid to a
+ * player wholly on that side of it, passable for the player from the others;
+ * one-way cells, the flags block, stop bodies from above only).
  *
  * A small complete level:
  *     ntile-level 1
@@ -122,12 +132,19 @@
  * 713 tile characters for the 31 x 23 playable cells, column by column, then
  * TYPE^X,Y,... objects in pixels of the 33 x 25 grid. The result is a 33 x 25 level of
  * 24-unit cells with the one-cell FULL border. Objects: player spawn (5) -> player;
- * exit door (11) -> region "exit" (one cell around the door) and zone "switch" (the
- * exit is open from the start); gold (0) -> static sensor circle r 6, score 1; mine
- * (12) -> static deadly sensor circle r 4; bounce block (1) -> dynamic box 9.6 x 9.6;
- * launch pad (2) -> the tile behind it gets material 1 (bounce 1); one-way platform
- * (7) facing up (N's direction 3) -> a one-way HALFu cell. Other directions and every
- * other type (drones, thwumps, ...) are skipped with a warning "NAME:LINE:COL: warning: ...".
+ * exit door (11) -> switch region "exitswitch" (one cell around N's switch) and
+ * region "exit" (one cell around the door) that needs it; door (9,
+ * SX,SY,TRAP,LOCKED,CX,CY,UPRIGHT,OX,OY) -> a static box a cell long and a quarter
+ * cell thick through the centre of cell (CX+OX, CY+OY), upright when UPRIGHT is 1: a
+ * locked door (opened-by) or trap door (closed-by) with its switch region
+ * "doorswitchN" one cell around SX,SY, else a plain door; gold (0) -> static sensor
+ * circle r 6, score 1; mine (12) -> static deadly sensor circle r 4; bounce block (1)
+ * -> dynamic box 9.6 x 9.6; launch pad (2) -> the tile behind it gets material 1
+ * (bounce 1); one-way platform (7) facing up (N's direction 3) -> a one-way HALFu
+ * cell, facing right, down or left (0, 1, 2) -> a static box over that half of the
+ * cell with one-way right|down|left. The types ntile does not have (gauss turret,
+ * floor guard, drone, thwump, rocket launcher) are skipped with a warning that names
+ * them, "NAME:LINE:COL: warning: N object type 8 (thwump) is not supported; skipped".
  */
 #ifndef NTILE_LEVEL_H
 #define NTILE_LEVEL_H
