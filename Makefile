@@ -17,6 +17,9 @@
 #                        when missing and root; `make` builds build/ntile-play whenever
 #                        SDL2's development files are there, and skips it otherwise)
 #   make run             the headless alternative: replay the default level
+#   make play-bin        build build/ntile-play without running it (make play runs it)
+#   make deps-cc / deps-test / deps-cxx / deps-pkgconfig / deps-tiled / deps-peers
+#                        install the Debian packages that step needs, when missing and root
 #   make NT_DOUBLE=1 …   everything with double as the scalar type
 #   make CC=clang OPT=-O3 …  any compiler / optimisation level
 #   make install [PREFIX=/usr/local] [DESTDIR=]   headers, libraries, ntile.pc and
