@@ -85,8 +85,8 @@ OBJ := $(BUILD)/obj/$(CONFIG_ID)
 STAMP := $(BUILD)/.config
 $(shell mkdir -p $(BUILD); if [ "$$(cat $(STAMP) 2>/dev/null)" != '$(CONFIG)' ]; then printf '%s\n' '$(CONFIG)' > $(STAMP); fi)
 
-SOVERSION := 0
-SOFULL := 0.1.0
+SOVERSION := 0.2
+SOFULL := 0.2.0
 
 LIB_SRC := $(wildcard src/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)

@@ -516,6 +516,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     b->p = p;
     b->v = nt_v2((p.x - p0.x) / dt, (p.y - p0.y) / dt);
     b->ntc = 0;
+    b->flags &= (uint8_t)~NT__BF_RESTING; /* (its tile contacts are gone, see nt_body_set_position) */
     if (b->gcell >= 0) nt__grid_update(w, c->body);
     c->on_floor = rp->on_floor;
     c->floor_body = nt_body_id_is_null(rp->floor_body) || !rp->on_floor ? -1 : rp->floor_body.index1 - 1;

@@ -168,7 +168,7 @@ struct nt_world {
     nt__proxy *prox, *prox_tmp; /* awake grid bodies sorted by cell, rebuilt each step */
     int prox_cap;
     nt_real pair_margin, pair_dt; /* the pair search's base margin and step (grid.c) */
-    uint16_t tag;              /* names the world in its body handles (nt_body_id.world0) */
+    uint32_t tag;              /* names the world in its body handles (nt_body_id.world0) */
     uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
     uint32_t *radix;           /* 2 x 8192 counters of the proxies' radix sort */
     int grid_w, grid_h;

@@ -153,13 +153,14 @@ static nt_status reserve_bodies(nt_world *w, int cap)
 }
 
 /* The tag a new world puts in its body handles: never 0 (the null handle's), and
- * different for each of 65,535 worlds made one after another (an atomic counter, so
- * worlds made on several threads at once get different tags too). */
-static uint16_t next_world_tag(void)
+ * different for each of 2^32 - 1 worlds made one after another (an atomic counter, so
+ * worlds made on several threads at once get different tags too). The handle has no
+ * padding: three 32-bit fields. */
+static uint32_t next_world_tag(void)
 {
-    static atomic_uint made;
-    unsigned n = atomic_fetch_add(&made, 1u);
-    return (uint16_t)(n % 65535u + 1u);
+    static atomic_uint_least32_t made;
+    uint_least32_t n = atomic_fetch_add(&made, 1u);
+    return (uint32_t)(n % 0xffffffffu + 1u);
 }
 
 nt_status nt_world_create(const nt_world_def *def, nt_world **out)
@@ -696,6 +697,9 @@ nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
     int32_t i = id.index1 - 1;
     b->p = p;
     b->ntc = 0;
+    /* Its remembered contacts are gone: it is not resting where it rested (even when
+     * put back at the same place), so the next step resolves it. */
+    b->flags &= (uint8_t)~NT__BF_RESTING;
     if (b->gcell >= 0) nt__grid_update(w, i);
     if (b->type == NT_BODY_STATIC) nt__wake_partners(w, i);
     nt__wake(w, i);

@@ -299,6 +299,38 @@ static void test_glide_agrees_with_resolution(void **state)
     assert_true(answered > 1000);
 }
 
+/* A body set back where it rests loses its remembered contacts: the next step finds
+ * them again (it is not answered from memory with none). Weightless, so that nothing
+ * but the resolution can give them back. */
+static void test_set_position_forgets_rest(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(8, 8, 20);
+    fill(w, 0, 6, 7, 6, NT_TILE_FULL);
+    nt_body_def d = nt_default_body_def();
+    d.shape = nt_shape_aabb((nt_real)0.3, (nt_real)0.3);
+    d.position = nt_v2((nt_real)3.5, (nt_real)5.5);
+    d.velocity = nt_v2(0, 1);
+    d.gravity_scale = 0;
+    d.material.bounce = 0;
+    nt_body_id id;
+    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
+    for (int k = 0; k < 30; k++) assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
+    assert_int_equal(nt_body_set_velocity(w, id, nt_v2(0, 0)), NT_OK);
+    for (int k = 0; k < 3; k++) assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
+    nt_body_tile_contacts tc;
+    assert_int_equal(nt_body_get_tile_contacts(w, id, &tc), NT_OK);
+    assert_int_equal(tc.count, 1);
+    assert_int_equal(nt_body_set_position(w, id, nt_body_get_position(w, id)), NT_OK);
+    assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
+    assert_int_equal(resolutions(w), 1);
+    for (int k = 0; k < 20; k++) assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
+    assert_int_equal(nt_body_get_tile_contacts(w, id, &tc), NT_OK);
+    assert_int_equal(tc.count, 1);
+    assert_true(tc.on_floor);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -307,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_glide_along_floor_into_wall),
         cmocka_unit_test(test_glide_down_slope_onto_floor),
         cmocka_unit_test(test_glide_agrees_with_resolution),
+        cmocka_unit_test(test_set_position_forgets_rest),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -41,8 +41,8 @@ done
 real=$(cd "$lib" && ls libntile.so.*.*.* 2>/dev/null | head -n 1)
 [ -n "$real" ] && [ -f "$lib/$real" ] && [ ! -L "$lib/$real" ] && ok || bad "no libntile.so.X.Y.Z"
 soname=$(readelf -d "$lib/$real" 2>/dev/null | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
-[ "$soname" = libntile.so.0 ] && ok || bad "soname is '$soname', want libntile.so.0"
-[ "$(readlink "$lib/libntile.so.0")" = "$real" ] && ok || bad "libntile.so.0 does not point to $real"
+[ "$soname" = libntile.so.0.2 ] && ok || bad "soname is '$soname', want libntile.so.0.2"
+[ "$(readlink "$lib/libntile.so.0.2")" = "$real" ] && ok || bad "libntile.so.0.2 does not point to $real"
 [ -L "$lib/libntile.so" ] && [ "$(cd "$lib" && readlink -f libntile.so)" = "$(cd "$lib" && readlink -f "$real")" ] && ok ||
     bad "libntile.so does not lead to $real"
 [ -f "$lib/pkgconfig/ntile.pc" ] && ok || bad "ntile.pc not installed"
@@ -89,7 +89,7 @@ box_rests='/^box rests at / { found = 1; x = $4; y = $5; f = NF < 7 ? 1 : $7 }
 # The example, as a user builds it, against the shared library ...
 if $CC -std=c11 -Wall -Wextra -Wpedantic -Werror tools/embed-example/embed.c $cflags $libs -o "$tmp/embed" 2>"$tmp/log"; then
     ok
-    readelf -d "$tmp/embed" | grep -q 'NEEDED.*\[libntile\.so\.0\]' && ok || bad "the example does not load libntile.so.0"
+    readelf -d "$tmp/embed" | grep -q 'NEEDED.*\[libntile\.so\.0\.2\]' && ok || bad "the example does not load libntile.so.0.2"
     LD_LIBRARY_PATH=$lib check_run "$tmp/embed" "shared" "$platformer_done" "the player does not reach the goal on the floor"
 else bad "building the example against the shared library"; cat "$tmp/log"; fi
 # ... and statically (pkg-config --static adds Libs.private).

@@ -17,7 +17,7 @@ extern "C" {
 #endif
 
 #define NT_VERSION_MAJOR 0
-#define NT_VERSION_MINOR 1
+#define NT_VERSION_MINOR 2
 #define NT_VERSION_PATCH 0
 
 #ifdef NT_DOUBLE

@@ -68,7 +68,7 @@ typedef struct nt_world nt_world;
 /// destroyed body. The zero value is the null handle.
 typedef struct nt_body_id {
     int32_t index1;      ///< body slot + 1; 0 for the null handle
-    uint16_t world0;     ///< the tag of the world that made it (never 0 for a body)
+    uint32_t world0;     ///< the tag of the world that made it (never 0 for a body)
     uint32_t generation; ///< bumped each time the slot is reused
 } nt_body_id;
 
