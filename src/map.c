@@ -1421,7 +1421,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         }
     }
     if (!found) {
-        nt_vec2 d, e = escape(vm, p, shape, h);
+        nt_vec2 e = escape(vm, p, shape, h), d = e;
         /* The sampled search probes centres up to 1.6 cells away, whose shapes cover
          * cells within 4 of p's: when all of those are FULL and the shape is thicker
          * than the free tolerance, it cannot find a way out (skipped: its 3,000 probes

@@ -5,10 +5,21 @@
 #define NTILE_TOOLS_STREAM_H
 
 #include <errno.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+/* A message into why (cap bytes), cut to fit: a long path shortens the message, never
+ * overflows it. */
+static inline void stream_say(char *why, size_t cap, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, cap, fmt, ap);
+    va_end(ap);
+}
 
 /* The largest file any ntile tool reads (levels, replays, Tiled maps, scripts, CSVs):
  * 256 MiB, above the largest level (4096 x 4096 cells with materials and flags). */
@@ -61,16 +72,16 @@ static inline int stream_check_regular(FILE *f, const char *path, size_t limit, 
 {
     struct stat st;
     if (fstat(fileno(f), &st) != 0) {
-        snprintf(why, cap, "cannot read '%s': %s", path, strerror(errno));
+        stream_say(why, cap, "cannot read '%s': %s", path, strerror(errno));
         return 0;
     }
     if (!S_ISREG(st.st_mode)) {
-        snprintf(why, cap, S_ISDIR(st.st_mode) ? "'%s' is a directory, not a file" : "'%s' is not a regular file",
+        stream_say(why, cap, S_ISDIR(st.st_mode) ? "'%s' is a directory, not a file" : "'%s' is not a regular file",
                  path);
         return 0;
     }
     if ((unsigned long long)st.st_size > (unsigned long long)limit) {
-        snprintf(why, cap, "'%s' is larger than %zu bytes", path, limit);
+        stream_say(why, cap, "'%s' is larger than %zu bytes", path, limit);
         return 0;
     }
     return 1;
@@ -84,7 +95,7 @@ static inline FILE *stream_open_regular(const char *path, size_t limit, char *wh
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
-        snprintf(why, cap, "cannot open '%s': %s", path, strerror(errno));
+        stream_say(why, cap, "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
     if (!stream_check_regular(f, path, limit, why, cap)) {
@@ -106,11 +117,11 @@ static inline int stream_read_file(const char *path, int allow_stdin, char **out
     int r = stream_read_all(f, STREAM_MAX_FILE, out, len);
     if (f != stdin) fclose(f);
     if (r == STREAM_NO_MEMORY) {
-        snprintf(why, cap, "out of memory reading '%s' (or larger than %zu bytes)", path, STREAM_MAX_FILE);
+        stream_say(why, cap, "out of memory reading '%s' (or larger than %zu bytes)", path, STREAM_MAX_FILE);
         return 0;
     }
     if (r == STREAM_READ_ERROR) {
-        snprintf(why, cap, "error reading '%s'", path);
+        stream_say(why, cap, "error reading '%s'", path);
         return 0;
     }
     return 1;
@@ -124,13 +135,13 @@ static inline int stream_write_file(const char *path, const char *data, size_t l
     size_t pl = strlen(path);
     char *tmp = malloc(pl + 32);
     if (!tmp) {
-        snprintf(why, cap, "out of memory writing '%.300s'", path);
+        stream_say(why, cap, "out of memory writing '%s'", path);
         return 0;
     }
     snprintf(tmp, pl + 32, "%s.tmp%ld", path, tag);
     FILE *f = fopen(tmp, "wb");
     if (!f) {
-        snprintf(why, cap, "cannot write '%.300s': %s", path, strerror(errno));
+        stream_say(why, cap, "cannot write '%s': %s", path, strerror(errno));
         free(tmp);
         return 0;
     }
@@ -138,7 +149,7 @@ static inline int stream_write_file(const char *path, const char *data, size_t l
     ok = (fclose(f) == 0) && ok;
     if (ok && rename(tmp, path) != 0) ok = 0;
     if (!ok) {
-        snprintf(why, cap, "cannot write '%.300s': %s", path, strerror(errno));
+        stream_say(why, cap, "cannot write '%s': %s", path, strerror(errno));
         remove(tmp);
     }
     free(tmp);

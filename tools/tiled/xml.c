@@ -255,6 +255,7 @@ static nt_status read_tiles(xb *b, const xnode *n, tl_tileset *ts)
 static nt_status open_document(xb *b, tl_ctx *c, const char *file, const char *text, size_t len, const char *kind,
                                const xnode **root)
 {
+    *root = NULL;
     memset(b, 0, sizeof *b);
     b->c = c;
     b->file = file;
@@ -273,7 +274,7 @@ static nt_status open_document(xb *b, tl_ctx *c, const char *file, const char *t
 nt_status tl_xml_tileset(tl_ctx *c, const char *file, const char *text, size_t len, tl_tileset *ts)
 {
     xb b;
-    const xnode *r;
+    const xnode *r = NULL;
     nt_status s = open_document(&b, c, file, text, len, "tileset", &r);
     if (s != NT_OK) return s;
     return read_tiles(&b, r, ts);
@@ -432,7 +433,7 @@ static nt_status read_layers(xb *b, const xnode *parent, double offx, double off
 nt_status tl_xml_map(tl_ctx *c, const char *file, const char *text, size_t len, tl_map *m)
 {
     xb b;
-    const xnode *r;
+    const xnode *r = NULL;
     nt_status s = open_document(&b, c, file, text, len, "map", &r);
     if (s != NT_OK) return s;
     m->loc = r->loc;
