@@ -1275,6 +1275,19 @@ static int big_escape(const probe *o, nt_vec2 p, nt_vec2 *d)
     return best < NT_REAL_MAX;
 }
 
+/* A way out d found by a search rather than from the tiles' surfaces: one contact
+ * along it, at the object's own cell. */
+static void set_escape(nt_resolution *res, nt_vec2 p, nt_vec2 d)
+{
+    nt_real l = nt__len(d);
+    res->push = d;
+    res->contact_count = 1;
+    res->contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
+    res->contacts[0].depth = l;
+    res->contacts[0].cell_x = nt__floor_int(p.x);
+    res->contacts[0].cell_y = nt__floor_int(p.y);
+}
+
 /* nt_map_resolve for a large object, in cell units (p, h); res is zeroed. */
 NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_resolution *res)
 {
@@ -1328,13 +1341,7 @@ NT__NOINLINE static bool resolve_big(const mview *map, nt_vec2 p, nt_shape shape
         /* No room for the object within the map: the nearest centre found, or none. */
         if (!big_escape(o, p, &d)) d = nt_v2(0, 0);
     }
-    nt_real l = nt__len(d);
-    res->push = d;
-    res->contact_count = 1;
-    res->contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-    res->contacts[0].depth = l;
-    res->contacts[0].cell_x = nt__floor_int(p.x);
-    res->contacts[0].cell_y = nt__floor_int(p.y);
+    set_escape(res, p, d);
     return true;
 }
 
@@ -1358,19 +1365,6 @@ nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
     nt_real cap = map->cell * (nt_real)NT_MAX_HALF_CELLS;
     if (shape.half.x > cap || shape.half.y > cap) return NT_ERR_SHAPE_TOO_LARGE;
     return NT_OK;
-}
-
-/* A way out d found by a search rather than from the tiles' surfaces: one contact
- * along it, at the object's own cell. */
-static void set_escape(nt_resolution *res, nt_vec2 p, nt_vec2 d)
-{
-    nt_real l = nt__len(d);
-    res->push = d;
-    res->contact_count = 1;
-    res->contacts[0].normal = l > 0 ? nt__scale(d, 1 / l) : nt_v2(0, -1);
-    res->contacts[0].depth = l;
-    res->contacts[0].cell_x = nt__floor_int(p.x);
-    res->contacts[0].cell_y = nt__floor_int(p.y);
 }
 
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)

@@ -1347,6 +1347,19 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
     return 1;
 }
 
+/* How many substeps a move by disp takes: a step longer than the body's smaller
+ * half-size could skip a thin piece of tile, unless every cell it sweeps is EMPTY.
+ * (The square root only for steps near that length or longer: most are far shorter.) */
+static inline int substep_count(const nt_world *w, const nt__body *b, nt_vec2 disp)
+{
+    nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
+    if (d2 < (nt_real)0.98 * hmin * hmin) return 1;
+    nt_real dist = nt__sqrt(d2);
+    if (!(dist > hmin) || sweep_empty(w, b->p, disp, b->half)) return 1;
+    nt_real q = dist / hmin;
+    return q >= 256 ? 256 : (int)q + 1;
+}
+
 /* The gravity whose exact parabola a body in free flight follows this step (see
  * move_dynamic), or zero. Read before the move updates NT__MF_AIR. */
 static inline nt_vec2 flight_gravity(const nt_world *w, const nt__body *b, nt_real dt, int free_ok)
@@ -1371,11 +1384,7 @@ static inline int fly_free(nt_world *w, nt__body *b, nt_real dt, int free_ok)
 {
     if (b->ntc || (b->motion & NT__MF_SHIFT)) return 0;
     nt_vec2 disp = nt__scale(b->v, dt);
-    nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
-    if (!(d2 < (nt_real)0.98 * hmin * hmin)) {
-        nt_real dist = nt__sqrt(d2);
-        if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) return 0;
-    }
+    if (substep_count(w, b, disp) != 1) return 0;
     nt_vec2 ga = flight_gravity(w, b, dt, free_ok), d = disp;
     if (ga.x != 0 || ga.y != 0) {
         nt_real h = dt / (nt_real)1, back = dt - (nt_real)0.5 * h; /* one substep, as move_dynamic computes it */
@@ -1408,17 +1417,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
         shift = nt_v2(w->scratch_r[2 * i], w->scratch_r[2 * i + 1]);
         disp = nt__add(disp, shift);
     }
-    nt_real d2 = nt__dot(disp, disp), hmin = nt__min(b->half.x, b->half.y);
-    int n = 1;
-    /* A step longer than the smaller half-size could skip a thin piece of tile. (The
-     * square root only for steps near that length or longer: most are far shorter.) */
-    if (!(d2 < (nt_real)0.98 * hmin * hmin)) {
-        nt_real dist = nt__sqrt(d2);
-        if (dist > hmin && !sweep_empty(w, b->p, disp, b->half)) {
-            nt_real q = dist / hmin;
-            n = q >= 256 ? 256 : (int)q + 1;
-        }
-    }
+    int n = substep_count(w, b, disp);
     nt_real h = dt / (nt_real)n;
     hit_rec hit = {0, {0, 0}, 0, 0};
     b->flags &= (uint8_t)~NT__BF_RESTING;
