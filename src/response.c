@@ -88,12 +88,37 @@ static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
     return src;
 }
 
-/* Sort n contacts by key into dst (n >= 0), through (key, index) records: an LSD radix
- * sort over the key's bytes, skipping bytes that every key shares. keys holds 4n
- * words. Keys are unique, so the order is fully determined. */
-static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_t *keys)
+/* The order of n contacts by key (n >= 0), as n indices into src. An LSD radix sort
+ * of records; keys are unique, so the order is fully determined. Most worlds number
+ * their bodies below 2^16: a record is then one word, the key's two slots packed into
+ * its high half (the same order as the key) above the index, sorted over the bits in
+ * use in as few passes of at most 11 bits as cover them. Else a record is (key, index),
+ * sorted a byte a pass, skipping the bytes every key shares. keys holds 4n words. */
+static const uint32_t *sort_by_key(const nt__contact *src, int n, int slot_bits, uint64_t *keys)
 {
-    if (n <= 0) return; /* keys may still be NULL */
+    if (n <= 0) return (const uint32_t *)keys; /* keys may still be NULL: not read */
+    if (slot_bits <= 16) {
+        uint64_t *a = keys, *b = keys + (size_t)n;
+        for (int i = 0; i < n; i++) {
+            uint64_t k = src[i].key;
+            a[i] = (((k >> 32) << slot_bits | (k & 0xffffffffu)) << 32) | (uint32_t)i;
+        }
+        const int bits = 2 * slot_bits, passes = (bits + 10) / 11, digit = (bits + passes - 1) / passes;
+        const uint32_t digits = 1u << digit, mask = digits - 1u;
+        uint32_t count[2049];
+        for (int shift = 32; shift < 32 + bits; shift += digit) {
+            memset(count, 0, (digits + 1) * sizeof *count);
+            for (int i = 0; i < n; i++) count[((a[i] >> shift) & mask) + 1]++;
+            for (uint32_t d = 0; d < digits; d++) count[d + 1] += count[d];
+            for (int i = 0; i < n; i++) b[count[(a[i] >> shift) & mask]++] = a[i];
+            uint64_t *t = a;
+            a = b;
+            b = t;
+        }
+        uint32_t *idx = (uint32_t *)(keys + 2 * (size_t)n); /* past both record arrays */
+        for (int i = 0; i < n; i++) idx[i] = (uint32_t)a[i];
+        return idx;
+    }
     uint64_t *a = keys, *b = keys + 2 * (size_t)n;
     uint64_t all_or = 0, all_and = ~(uint64_t)0;
     for (int i = 0; i < n; i++) {
@@ -116,7 +141,9 @@ static void sort_by_key(const nt__contact *src, nt__contact *dst, int n, uint64_
         a = b;
         b = t;
     }
-    for (int i = 0; i < n; i++) dst[i] = src[a[2 * i + 1]];
+    uint32_t *idx = (uint32_t *)b; /* the other half, no longer needed */
+    for (int i = 0; i < n; i++) idx[i] = (uint32_t)a[2 * i + 1];
+    return idx;
 }
 
 static void end_event(nt_world *w, const nt__contact *c)
@@ -248,25 +275,26 @@ static nt_status collide(nt_world *w, nt_real dt)
     /* Committed: nothing below allocates. */
     w->n_begin = w->n_end = w->n_hit = w->n_sbegin = w->n_send = 0;
     w->wake_count = 0;
-    sort_by_key(w->con_new, w->con_tmp, nn, w->sort_keys);
-    if (nn) memcpy(w->con_new, w->con_tmp, (size_t)nn * sizeof *w->con_new);
+    int slot_bits = 1;
+    while (slot_bits < 31 && ((uint32_t)w->body_cap - 1u) >> slot_bits) slot_bits++;
+    const uint32_t *order = sort_by_key(w->con_new, nn, slot_bits, w->sort_keys);
     nt__contact *old = w->con, *out = w->con_tmp;
     int i = 0, j = 0, k = 0;
     while (i < no || j < nn) {
-        if (j >= nn || (i < no && old[i].key < w->con_new[j].key)) {
+        if (j >= nn || (i < no && old[i].key < w->con_new[order[j]].key)) {
             const nt__contact *c = &old[i++];
             const nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
             if (contact_live(w, c) && a->awake_slot < 0 && b->awake_slot < 0)
                 nt__park(w, c); /* both asleep or static: keep it aside */
             else if (c->flags & NT__CF_TOUCH)
                 end_event(w, c);
-        } else if (i >= no || w->con_new[j].key < old[i].key) {
-            out[k] = w->con_new[j++];
+        } else if (i >= no || w->con_new[order[j]].key < old[i].key) {
+            out[k] = w->con_new[order[j++]];
             if (out[k].flags & NT__CF_TOUCH) begin_event(w, &out[k]);
             k++;
         } else {
             const nt__contact *o = &old[i++];
-            out[k] = w->con_new[j++];
+            out[k] = w->con_new[order[j++]];
             nt__contact *c = &out[k++];
             if (o->gen_a == c->gen_a && o->gen_b == c->gen_b) {
                 if (c->flags & NT__CF_TOUCH) keep_box_axis(w, o, c);
@@ -333,19 +361,25 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
  * resolve (the common case for a body in the air, checked without a call). A body
  * is at most half a cell, so it lies within the 3 x 3 cells around its centre's, and
  * each end of its range is that cell or the one next to it: comparisons find which,
- * and the cell's near9 mask says whether those cells are all EMPTY. */
-static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
+ * and the cell's near9 mask says whether those cells are all EMPTY. *cell: the centre's
+ * cell (the map's and the grid's), set when it lies in the map. */
+static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 p, nt_vec2 h, int32_t *cell)
 {
-    const nt_map *m = w->map;
-    nt_real ic = w->inv_cell;
     int cx = nt__ifloor(p.x * ic), cy = nt__ifloor(p.y * ic);
     if (!nt__map_in(m, cx, cy)) return 0; /* covers border cells */
-    unsigned near = m->near9[(size_t)cy * (size_t)m->w + (size_t)cx];
+    *cell = (int32_t)cy * m->w + cx;
+    unsigned near = m->near9[*cell];
     if (!near) return 1;
     unsigned cols = 2u | ((p.x - h.x) * ic < (nt_real)cx ? 1u : 0u) | ((p.x + h.x) * ic >= (nt_real)(cx + 1) ? 4u : 0u);
     unsigned rows = 2u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 4u : 0u);
     unsigned covered = ((rows & 1u) ? cols : 0u) | ((rows & 2u) ? cols << 3 : 0u) | ((rows & 4u) ? cols << 6 : 0u);
     return (near & covered) == 0;
+}
+
+static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
+{
+    int32_t cell;
+    return open_air_at(w->map, w->inv_cell, p, h, &cell);
 }
 
 /* True when every cell of the range is an EMPTY cell of the map. */
@@ -1360,43 +1394,69 @@ static inline int substep_count(const nt_world *w, const nt__body *b, nt_vec2 di
     return q >= 256 ? 256 : (int)q + 1;
 }
 
+/* What the move reads of the world for every body, read once per step: a store to a
+ * body's nt_real fields may alias the world's, so the compiler would read them again
+ * for each body. */
+typedef struct move_consts {
+    const nt_map *map;
+    nt_vec2 g;                 /* gravity */
+    nt_real dt, ic, maxd, vmax2;
+    nt_real bend;              /* (1/2) dt^2 */
+    uint32_t map_epoch;
+} move_consts;
+
+static move_consts move_consts_of(const nt_world *w, nt_real dt)
+{
+    move_consts mc;
+    mc.map = w->map;
+    mc.g = w->def.gravity;
+    mc.dt = dt;
+    mc.ic = w->inv_cell;
+    mc.maxd = w->def.max_cells_per_step * w->cell;
+    mc.vmax2 = (mc.maxd / dt) * (mc.maxd / dt);
+    mc.bend = (nt_real)0.5 * dt * dt;
+    mc.map_epoch = w->map_epoch;
+    return mc;
+}
+
 /* The gravity whose exact parabola a body in free flight follows this step (see
  * move_dynamic), or zero. Read before the move updates NT__MF_AIR. */
-static inline nt_vec2 flight_gravity(const nt_world *w, const nt__body *b, nt_real dt, int free_ok)
+static inline nt_vec2 flight_gravity(const move_consts *mc, const nt__body *b, int free_ok)
 {
     if (!(free_ok && !b->ntc && (b->motion & NT__MF_AIR) && !(b->motion & NT__MF_SOLVED) && b->drag == 0) ||
-        (w->def.gravity.x == 0 && w->def.gravity.y == 0))
+        (mc->g.x == 0 && mc->g.y == 0))
         return nt_v2(0, 0);
-    nt_vec2 ga = nt_v2(w->def.gravity.x * b->gravity_scale, w->def.gravity.y * b->gravity_scale);
+    nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
     /* Not when the parabola's bend is more than a step may move (huge gravity): the
      * speed limit holds the displacement, and v dt keeps within it. */
-    nt_real bend = (nt_real)0.5 * dt * dt, maxd = w->def.max_cells_per_step * w->cell;
-    if (!(nt__fabs(ga.x) * bend <= maxd && nt__fabs(ga.y) * bend <= maxd)) ga = nt_v2(0, 0);
+    if (!(nt__fabs(ga.x) * mc->bend <= mc->maxd && nt__fabs(ga.y) * mc->bend <= mc->maxd)) ga = nt_v2(0, 0);
     return ga;
 }
 
 /* move_dynamic's answer for the most common body: no tile contact at the end of the
- * last step, no time-of-impact shift, one
- * substep (a step shorter than its smaller half-size, or a sweep through EMPTY cells
- * only), and open air where it arrives. The same arithmetic as move_dynamic; returns
- * 0, changing nothing, for any other body. */
-static inline int fly_free(nt_world *w, nt__body *b, nt_real dt, int free_ok)
+ * last step, no time-of-impact shift, one substep (a step shorter than its smaller
+ * half-size, or a sweep through EMPTY cells only), and open air where it arrives. The
+ * same arithmetic as move_dynamic; returns 0, changing nothing, for any other body.
+ * *cell: the grid cell of a body up to half a cell where it arrives, else -1. */
+static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int free_ok, int32_t *cell)
 {
     if (b->ntc || (b->motion & NT__MF_SHIFT)) return 0;
+    const nt_real dt = mc->dt;
     nt_vec2 disp = nt__scale(b->v, dt);
     if (substep_count(w, b, disp) != 1) return 0;
-    nt_vec2 ga = flight_gravity(w, b, dt, free_ok), d = disp;
+    nt_vec2 ga = flight_gravity(mc, b, free_ok), d = disp;
     if (ga.x != 0 || ga.y != 0) {
         nt_real h = dt / (nt_real)1, back = dt - (nt_real)0.5 * h; /* one substep, as move_dynamic computes it */
         d = nt_v2((b->v.x - ga.x * back) * h, (b->v.y - ga.y * back) * h);
     }
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
-    if (!(!(b->flags & NT__BF_LARGE) ? open_air(w, q, b->half) : open_box(w, q, b->half))) return 0;
+    *cell = -1;
+    if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, q, b->half, cell) : open_box(w, q, b->half))) return 0;
     b->motion = (uint8_t)((b->motion & ~NT__MF_MET) | NT__MF_AIR);
     if (q.x == b->p.x && q.y == b->p.y) {
         b->flags |= NT__BF_RESTING;
         b->rest_p = q;
-        b->rest_epoch = w->map_epoch;
+        b->rest_epoch = mc->map_epoch;
     } else {
         b->flags &= (uint8_t)~NT__BF_RESTING;
         b->p = q;
@@ -1404,8 +1464,9 @@ static inline int fly_free(nt_world *w, nt__body *b, nt_real dt, int free_ok)
     return 1;
 }
 
-static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
+static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_ok)
 {
+    const nt_real dt = mc->dt;
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
     b->motion &= (uint8_t)~NT__MF_MET;
@@ -1429,7 +1490,7 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
      * tile contact only in the last step (at a seam, a crest): with v dt it sinks back
      * into the surface it slides along, where the parabola would leave it above it,
      * within the skin, and out of contact. */
-    nt_vec2 ga = flight_gravity(w, b, dt, free_ok);
+    nt_vec2 ga = flight_gravity(mc, b, free_ok);
     b->motion = (uint8_t)((b->motion & ~NT__MF_AIR) | (b->ntc ? 0 : NT__MF_AIR));
     int flying = ga.x != 0 || ga.y != 0;
     for (int s = 0; s < n; s++) {
@@ -1486,10 +1547,10 @@ static int move_dynamic(nt_world *w, int32_t i, nt_real dt, int free_ok)
  * the tiles unchanged since: the resolution would give the same answer again (it
  * depends on the position and the tiles only), so its contacts are kept as they are
  * and it stays where it is. This is what makes bodies resting on tiles cheap. */
-static inline int at_rest(const nt_world *w, const nt__body *b)
+static inline int at_rest(const move_consts *mc, const nt__body *b)
 {
     return (b->flags & NT__BF_RESTING) && b->v.x == 0 && b->v.y == 0 && !(b->motion & NT__MF_SHIFT) &&
-           b->rest_epoch == w->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y;
+           b->rest_epoch == mc->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y;
 }
 
 /* The move. `forces`: the velocity phase had no body contact to solve, so each body's
@@ -1497,7 +1558,8 @@ static inline int at_rest(const nt_world *w, const nt__body *b)
  * same arithmetic in the same order per body, one pass over the bodies fewer). */
 static void move_bodies(nt_world *w, nt_real dt, int forces)
 {
-    nt_real maxd = w->def.max_cells_per_step * w->cell, vmax2 = (maxd / dt) * (maxd / dt);
+    const move_consts mcs = move_consts_of(w, dt), *mc = &mcs;
+    const nt_real maxd = mc->maxd, vmax2 = mc->vmax2;
     int moves = 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
@@ -1505,10 +1567,10 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
         if (b->type == NT_BODY_DYNAMIC) {
             if (forces) {
                 b->motion &= (uint8_t)~NT__MF_SOLVED;
-                b->v = nt__solve_velocity(w, b, dt);
+                b->v = nt__solve_velocity_g(mc->g, b, dt);
                 if (b->ntc) tile_solve(w, b);
             }
-            if (at_rest(w, b)) {
+            if (at_rest(mc, b)) {
                 b->motion &= (uint8_t)~NT__MF_MET;
                 for (int c = 0; c < b->ntc; c++) {
                     b->tc[c].lambda = 0;
@@ -1523,6 +1585,7 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
         if (!(sp2 <= NT_REAL_MAX)) b->v = nt__clamp_overflow(b->v, maxd / dt);
         else if (sp2 > vmax2) b->v = nt__scale(b->v, maxd / (nt__sqrt(sp2) * dt));
         else limited = 0;
+        int32_t cell = -1;
         if (b->type == NT_BODY_KINEMATIC) {
             /* A character was moved by nt_character_move: its velocity, that move's,
              * has served the contacts; it does not carry over to the next step. */
@@ -1533,13 +1596,14 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
                 b->p.y += b->v.y * dt;
             }
             moves++;
-        } else if (fly_free(w, b, dt, !limited)) {
+        } else if (fly_free(w, mc, b, !limited, &cell)) {
             moves++;
         } else {
-            moves += move_dynamic(w, i, dt, !limited);
+            moves += move_dynamic(w, mc, i, !limited);
             if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
         }
-        if (b->gcell >= 0) nt__grid_update(w, i);
+        /* Open air told the cell: the grid's list changes only when the cell did. */
+        if (b->gcell >= 0 && (cell < 0 || 2 * cell + b->glist != b->gcell)) nt__grid_update(w, i);
     }
     w->counters.substep_count = moves;
 }

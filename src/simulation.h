@@ -289,18 +289,22 @@ void nt__update_sleep(nt_world *w, nt_real dt); /* the end of a step: groups tha
  * dynamic bodies get gravity and drag (response.c), the others keep theirs. The pair
  * search predicts with it whether a gap closes this step, which must be the solve's
  * own answer: the same arithmetic. */
-static inline nt_vec2 nt__solve_velocity(const nt_world *w, const nt__body *b, nt_real dt)
+static inline nt_vec2 nt__solve_velocity_g(nt_vec2 gravity, const nt__body *b, nt_real dt)
 {
     nt_vec2 v = b->v;
     if (b->type != NT_BODY_DYNAMIC || b->awake_slot < 0) return v;
-    v.x += w->def.gravity.x * b->gravity_scale * dt;
-    v.y += w->def.gravity.y * b->gravity_scale * dt;
+    v.x += gravity.x * b->gravity_scale * dt;
+    v.y += gravity.y * b->gravity_scale * dt;
     if (b->drag > 0) {
         nt_real f = 1 / (1 + b->drag * dt);
         v.x *= f;
         v.y *= f;
     }
     return v;
+}
+static inline nt_vec2 nt__solve_velocity(const nt_world *w, const nt__body *b, nt_real dt)
+{
+    return nt__solve_velocity_g(w->def.gravity, b, dt);
 }
 static inline bool nt__body_in_grid(const nt__body *b) { return b->mask != 0 && b->category != 0; }
 static inline nt_shape nt__body_shape(const nt__body *b)
