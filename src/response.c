@@ -1151,6 +1151,106 @@ static inline int kicked_out(const nt_world *w, nt_vec2 v0, nt_vec2 v1, nt_real 
            (nt__max(v1.y, 0) - nt__max(v0.y, 0)) * dt > m || (nt__max(-v1.y, 0) - nt__max(-v0.y, 0)) * dt > m;
 }
 
+/* Perfectly elastic collisions (bounce 1) between bodies not standing on the ground
+ * (no level: in flight, or no gravity) are answered before the iterations, one pair
+ * at a time, each as the impact of two free bodies: the relative normal velocity vn
+ * turns into -vn, which keeps momentum and energy. As restitution targets inside the
+ * iterations they did not: a pair whose gap the solve closed (a speculative contact
+ * it had not predicted to close) stopped dead, and a target met against a tile
+ * surface or a third body took its whole velocity change from the other body
+ * (energy from nothing). The gas scene (300 bodies, bounce 1, no gravity) drifted
+ * by 1 % in 200 steps so, both ways (summed over the steps: -6.6 % of its energy
+ * lost where the solve closed a gap, +5.9 % made against the walls). Bounces below 1, and bodies in piles, keep the targets: the pile
+ * answers as one body (what a landing body bounces off), and pairwise impacts
+ * through a pile dissipate more, which settles the rain scene sooner (10 % more
+ * contacts, 6.5 % more instructions per body-step). */
+static inline int elastic_free(const nt_world *w, const nt__contact *c)
+{
+    return c->bounce >= 1 && w->level[key_a(c->key)] == NT__NO_LEVEL && w->level[key_b(c->key)] == NT__NO_LEVEL;
+}
+
+static inline int bounce_contact(nt_world *w, nt__contact *c)
+{
+    nt__svel *a = &w->svel[c->sa], *b = &w->svel[c->sb];
+    nt_real vn = nt__dot(nt__sub(b->v, a->v), c->n);
+    /* Closing its gap this step (the bias: zero when touching), above the threshold. */
+    if (!(vn < c->bias) || !(vn < -w->def.restitution_threshold)) return 0;
+    nt_real dl = -(1 + c->bounce) * vn * c->meff;
+    a->v = nt__sub(a->v, nt__scale(c->n, dl * a->w));
+    b->v = nt__add(b->v, nt__scale(c->n, dl * b->w));
+    c->flags |= NT__CF_BOUNCED;
+    return 1;
+}
+
+/* The tile surfaces a body touched at the end of the last step, as impacts too, by
+ * the move's rule (respond_tiles: the material's bounce and friction, no bounce
+ * below the threshold); else the iterations' one-sided tile constraints would stop
+ * a body the pass sent back into a wall it had just left. */
+static inline void bounce_tiles(const nt_world *w, const nt__body *b, nt__svel *s)
+{
+    for (int k = 0; k < b->ntc; k++) {
+        nt_vec2 n = b->tc[k].n;
+        nt_real a = nt__dot(s->v, n), f, e, dn;
+        if (!(a < 0)) continue;
+        tile_material(w, b, b->tc[k].material, &f, &e);
+        if (-a < w->def.restitution_threshold) e = 0;
+        s->v = respond(w->def.friction_model, s->v, n, f, e, &dn);
+    }
+}
+
+/* The bodies whose velocity an impact changed wait in a queue (a ring of body_cap
+ * slots, each body in it at most once) to have their surfaces and contacts looked at. */
+typedef struct bounce_queue {
+    int32_t *slot, *state; /* state per solver body: 2 x turns taken + 1 while queued */
+    const int32_t *index;  /* body -> solver body */
+    int cap, head, tail, count, turns;
+} bounce_queue;
+
+static inline void bounce_enqueue(const nt_world *w, bounce_queue *q, int32_t i)
+{
+    int32_t s = q->index[i];
+    if (w->svel[s].w <= 0 || (q->state[s] & 1) || (q->state[s] >> 1) >= q->turns) return;
+    q->state[s] |= 1;
+    q->slot[q->tail] = i;
+    q->tail = (q->tail + 1) % q->cap;
+    q->count++;
+}
+
+static inline void bounce_pair(nt_world *w, bounce_queue *q, nt__contact *c)
+{
+    if (!bounce_contact(w, c)) return;
+    bounce_enqueue(w, q, key_a(c->key));
+    bounce_enqueue(w, q, key_b(c->key));
+}
+
+/* The pass: the contacts flagged NT__CF_IMPACT in contact order, then, body by body,
+ * the surfaces and contacts of each body an impact changed, until no such pair
+ * closes or each body has had velocity_iterations turns (a Newton's cradle passes
+ * its impact down the row). What is left closing goes to the iterations. */
+static void bounce_pass(nt_world *w, const int32_t *index, int nsv)
+{
+    const int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
+    /* wake_list and the second half of scratch_a are free during the solve. */
+    bounce_queue q = {w->wake_list, w->scratch_a + w->body_cap, index, w->body_cap, 0, 0, 0,
+                      w->def.velocity_iterations};
+    memset(q.state, 0, (size_t)nsv * sizeof *q.state);
+    for (int k = 0; k < w->con_count; k++) {
+        nt__contact *c = &w->con[k];
+        if (c->meff > 0 && (c->flags & NT__CF_IMPACT)) bounce_pair(w, &q, c);
+    }
+    while (q.count > 0) {
+        int32_t i = q.slot[q.head], s = index[i];
+        q.head = (q.head + 1) % q.cap;
+        q.count--;
+        q.state[s] = (q.state[s] & ~1) + 2;
+        if (w->bodies[i].ntc) bounce_tiles(w, &w->bodies[i], &w->svel[s]);
+        for (int32_t e = start[i]; e < end[i]; e++) {
+            nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
+            if (c->meff > 0 && elastic_free(w, c)) bounce_pair(w, &q, c);
+        }
+    }
+}
+
 static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 {
     nt_friction_model model = w->def.friction_model;
@@ -1164,9 +1264,9 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
     }
     if (w->con_count == 0) return;
 
-    /* Body contacts. Restitution targets and hit speeds come from the velocities
+    /* Body contacts. Which pairs collide, and hit speeds, come from the velocities
      * before any contact impulse (warm start included) is applied. */
-    int any = 0;
+    int any = 0, bounces = 0;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         c->meff = 0;
@@ -1191,7 +1291,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         /* A bounce is an impact, not a lasting push: its impulse is not carried over as
          * the next step's warm start (which would push the separating bodies apart
          * again: energy from nothing in a gas of bouncing bodies). */
-        c->flags &= ~(uint32_t)NT__CF_BOUNCED;
+        c->flags &= ~(uint32_t)(NT__CF_BOUNCED | NT__CF_IMPACT);
         /* A touching pair that held last step (its impulse carried over) is resting: of
          * what it closes at, up to what gravity adds along its normal in this step is
          * its weight, not an impact, however long the step (else a box resting on
@@ -1203,8 +1303,14 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             vimp = nt__min(vn0 + gs * nt__fabs(nt__dot(w->def.gravity, c->n)) * dt, 0);
         }
         if (hits && vimp < -w->def.restitution_threshold) {
-            c->bias = nt__max(c->bias, -c->bounce * vimp);
-            if (c->bounce > 0) c->flags |= NT__CF_BOUNCED;
+            if (elastic_free(w, c)) {
+                /* Answered by bounce_pass, before the iterations; the bias keeps the gap. */
+                c->flags |= NT__CF_BOUNCED | NT__CF_IMPACT;
+                bounces = 1;
+            } else {
+                c->bias = nt__max(c->bias, -c->bounce * vimp);
+                if (c->bounce > 0) c->flags |= NT__CF_BOUNCED;
+            }
         }
         nt_real toi = hits && !touch && vn0 < -w->def.restitution_threshold && c->bounce == 0 ? c->depth / vn0 : -1;
         toi_note(w, key_a(c->key), touch, toi);
@@ -1239,6 +1345,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
         if (model == NT_FRICTION_N) c->lt = 0; /* N's friction is not carried over */
     }
     nt__stile *st = w->stile;
+    if (bounces) bounce_pass(w, index, nsv);
     if (any) {
         for (int it = 0; it < w->def.velocity_iterations; it++) {
             /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */

@@ -32,7 +32,8 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
 enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4, NT__MF_MET = 8, NT__MF_KICKED = 16, NT__MF_RECHECK = 32 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
-enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16 };
+enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16,
+       NT__CF_IMPACT = 32 /* this step: an elastic pair answered by bounce_pass (response.c) */ };
 /* Broad-phase levels: level 0 is N's grid (bodies up to half a cell), level k holds
  * bodies up to 2^(k-1) cells in cells 2^k wide, up to NT_MAX_HALF_CELLS. */
 #define NT__LEVELS 4

@@ -287,6 +287,72 @@ static void test_elastic_bounce_keeps_energy(void **state)
     nt_world_destroy(w);
 }
 
+/* A gas of bounce-1 bodies (boxes and circles of unequal masses, no friction, no
+ * gravity) in a closed room with bounce-1 walls: every collision, body-body or
+ * body-wall, is elastic, so the kinetic energy stays what the bodies were created
+ * with (sum of m v^2 / 2 over their definitions) at every step, within 1e-4, through
+ * hundreds of collisions, many of them with several bodies at once (dt 1/40 s). */
+static void test_elastic_gas_keeps_energy(void **state)
+{
+    (void)state;
+    enum { W = 24, N = 160, STEPS = 400 };
+    nt_world *w = make_world(W, W, 0, NT_FRICTION_COULOMB);
+    nt_material wall = {0, 1};
+    assert_int_equal(nt_world_set_material(w, 0, wall), NT_OK);
+    fill(w, 0, 0, W - 1, 0, NT_TILE_FULL);
+    fill(w, 0, W - 1, W - 1, W - 1, NT_TILE_FULL);
+    fill(w, 0, 1, 0, W - 2, NT_TILE_FULL);
+    fill(w, W - 1, 1, W - 1, W - 2, NT_TILE_FULL);
+    nt_body_id ids[N];
+    uint64_t rng = 0x9e3779b97f4a7c15ull;
+    double e0 = 0;
+    for (int i = 0; i < N; i++) {
+        double u[4];
+        for (int k = 0; k < 4; k++) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            u[k] = (double)(rng >> 11) / 9007199254740992.0;
+        }
+        double half = 0.2 + 0.15 * u[0], mass = 0.5 + 1.5 * u[1], sp = 2 + 4 * u[2], a = 6.283185307179586 * u[3];
+        nt_shape s = i & 1 ? nt_shape_circle(R(half)) : nt_shape_aabb(R(half), R(half));
+        double x = 2 + (i % 16) * 1.3, y = 2 + (i / 16) * 2.0;
+        ids[i] = add_body(w, s, x, y, sp * cos(a), sp * sin(a), mass, 0, 1);
+        nt_vec2 v = nt_body_get_velocity(w, ids[i]); /* as the world holds it */
+        e0 += 0.5 * mass * ((double)v.x * v.x + (double)v.y * v.y);
+    }
+    double worst = 0;
+    for (int t = 0; t < STEPS; t++) {
+        assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+        double e = 0;
+        for (int i = 0; i < N; i++) {
+            nt_vec2 v = nt_body_get_velocity(w, ids[i]);
+            e += 0.5 * (double)nt_body_get_mass(w, ids[i]) * ((double)v.x * v.x + (double)v.y * v.y);
+        }
+        worst = fmax(worst, fabs(e - e0) / e0);
+    }
+    if (!(worst <= 1e-4)) fail_msg("kinetic energy drifted by %g of its start", worst);
+    nt_world_destroy(w);
+}
+
+/* Newton's cradle: a ball rolling (no gravity, bounce 1) into a row of three equal
+ * balls at rest, a hair apart, leaves the first two at rest and the last one moving
+ * off at its speed. */
+static void test_newtons_cradle(void **state)
+{
+    (void)state;
+    nt_world *w = make_world(40, 8, 0, NT_FRICTION_COULOMB);
+    const double r = 0.4, v0 = 3, gap = 0.01;
+    nt_body_id ball = add_body(w, nt_shape_circle(R(r)), 5, 4, v0, 0, 1, 0, 1), row[3];
+    for (int k = 0; k < 3; k++) row[k] = add_body(w, nt_shape_circle(R(r)), 10 + k * (2 * r + gap), 4, 0, 0, 1, 0, 1);
+    for (int t = 0; t < 80; t++) assert_int_equal(nt_world_step(w, R(1.0 / 40)), NT_OK);
+    nt_vec2 v[4] = {nt_body_get_velocity(w, ball), nt_body_get_velocity(w, row[0]), nt_body_get_velocity(w, row[1]),
+                    nt_body_get_velocity(w, row[2])};
+    for (int k = 0; k < 3; k++)
+        if (!(speed(v[k]) <= 1e-4 * v0)) fail_msg("ball %d still moves at %g", k, speed(v[k]));
+    if (!(fabs((double)v[3].x - v0) <= 1e-4 * v0 && fabs((double)v[3].y) <= 1e-4 * v0))
+        fail_msg("last ball leaves at (%g, %g), want (%g, 0)", (double)v[3].x, (double)v[3].y, v0);
+    nt_world_destroy(w);
+}
+
 /* ---------------------------------------------------------------- slopes */
 
 enum { S22 = 0, S45 = 1, S67 = 2 };
@@ -630,6 +696,8 @@ int main(void)
         cmocka_unit_test(test_momentum_angled),
         cmocka_unit_test(test_bounce_heights),
         cmocka_unit_test(test_elastic_bounce_keeps_energy),
+        cmocka_unit_test(test_elastic_gas_keeps_energy),
+        cmocka_unit_test(test_newtons_cradle),
         cmocka_unit_test(test_coulomb_incline),
         cmocka_unit_test(test_n_model_terminal_speed),
         cmocka_unit_test(test_flat_floor_no_ghost_bumps),
