@@ -1509,6 +1509,7 @@ typedef struct move_consts {
     nt_vec2 g;                 /* gravity */
     nt_real dt, ic, maxd, vmax2;
     nt_real bend;              /* (1/2) dt^2 */
+    int gravity;               /* g is not zero */
     uint32_t map_epoch;
 } move_consts;
 
@@ -1522,6 +1523,7 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
     mc.maxd = w->def.max_cells_per_step * w->cell;
     mc.vmax2 = (mc.maxd / dt) * (mc.maxd / dt);
     mc.bend = (nt_real)0.5 * dt * dt;
+    mc.gravity = mc.g.x != 0 || mc.g.y != 0;
     mc.map_epoch = w->map_epoch;
     return mc;
 }
@@ -1530,8 +1532,7 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
  * move_dynamic), or zero. Read before the move updates NT__MF_AIR. */
 static inline nt_vec2 flight_gravity(const move_consts *mc, const nt__body *b, int free_ok)
 {
-    if (!(free_ok && !b->ntc && (b->motion & NT__MF_AIR) && !(b->motion & NT__MF_SOLVED) && b->drag == 0) ||
-        (mc->g.x == 0 && mc->g.y == 0))
+    if (!mc->gravity || !(free_ok && !b->ntc && (b->motion & NT__MF_AIR) && !(b->motion & NT__MF_SOLVED) && b->drag == 0))
         return nt_v2(0, 0);
     nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
     /* Not when the parabola's bend is more than a step may move (huge gravity): the
@@ -1660,6 +1661,50 @@ static inline int at_rest(const move_consts *mc, const nt__body *b)
            b->rest_epoch == mc->map_epoch && b->p.x == b->rest_p.x && b->p.y == b->rest_p.y;
 }
 
+/* Both components +0 (the bits, not just == 0). */
+static inline int plus_zero(nt_vec2 v)
+{
+    const nt_vec2 z = nt_v2(0, 0);
+    return memcmp(&v, &z, sizeof v) == 0;
+}
+
+/* A resting body whose remembered tile contacts stopped its gravity (and drag) from a
+ * velocity of +0 exactly, to +0 exactly (NT__MF_HELD, set here): the same forces from
+ * the same +0 against the same surfaces give the same answer, so as long as it stays
+ * at rest and nothing its answer depends on has changed (the step, the world's gravity
+ * and materials: held_ok; the body's own gravity scale, drag, velocity and material:
+ * their setters clear the mark, and so does sleep), its forces and contacts are not
+ * answered again. Only in steps without body contacts (`forces`): with them, the
+ * solve answers every body's forces. */
+static inline void rest_again(nt__body *b)
+{
+    b->motion &= (uint8_t)~NT__MF_MET;
+    for (int c = 0; c < b->ntc; c++) {
+        b->tc[c].lambda = 0;
+        b->tc[c].solved = 0;
+    }
+}
+
+/* The forces of a body flagged resting, in a step without body contacts: 1 when it
+ * rests again (done with this step), else 0 with its forces applied. */
+NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body *b, int held_ok)
+{
+    int still = at_rest(mc, b) && plus_zero(b->v);
+    if (still && held_ok && (b->motion & NT__MF_HELD)) {
+        b->motion &= (uint8_t)~NT__MF_SOLVED;
+        rest_again(b);
+        w->counters.bodies_held++;
+        return 1;
+    }
+    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
+    b->v = nt__solve_velocity_g(mc->g, b, mc->dt);
+    if (b->ntc) tile_solve(w, b);
+    if (!at_rest(mc, b)) return 0;
+    rest_again(b);
+    if (still && plus_zero(b->v)) b->motion |= NT__MF_HELD;
+    return 1;
+}
+
 /* The move. `forces`: the velocity phase had no body contact to solve, so each body's
  * gravity, drag and resting tile contacts are answered here, just before its move (the
  * same arithmetic in the same order per body, one pass over the bodies fewer). */
@@ -1667,22 +1712,29 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
 {
     const move_consts mcs = move_consts_of(w, dt), *mc = &mcs;
     const nt_real maxd = mc->maxd, vmax2 = mc->vmax2;
+    /* The marks are valid from one step without body contacts to the next. */
+    const int held_ok = forces && dt == w->prev_dt && w->force_epoch == w->held_epoch;
+    if (forces) w->held_epoch = w->force_epoch;
+    else w->force_epoch++;
     int moves = 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
         if (b->type == NT_BODY_DYNAMIC) {
             if (forces) {
-                b->motion &= (uint8_t)~NT__MF_SOLVED;
-                b->v = nt__solve_velocity_g(mc->g, b, dt);
-                if (b->ntc) tile_solve(w, b);
+                if (b->flags & NT__BF_RESTING) {
+                    if (rest_forces(w, mc, b, held_ok)) {
+                        moves++;
+                        continue; /* (in the same grid cell, at the same place) */
+                    }
+                } else {
+                    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
+                    b->v = nt__solve_velocity_g(mc->g, b, dt);
+                    if (b->ntc) tile_solve(w, b);
+                }
             }
             if (at_rest(mc, b)) {
-                b->motion &= (uint8_t)~NT__MF_MET;
-                for (int c = 0; c < b->ntc; c++) {
-                    b->tc[c].lambda = 0;
-                    b->tc[c].solved = 0;
-                }
+                rest_again(b);
                 moves++;
                 continue; /* (in the same grid cell, at the same place) */
             }
@@ -1725,6 +1777,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
     w->pairs_ms = 0;
     w->kicked_count = 0;
     w->counters.tile_resolutions = 0;
+    w->counters.bodies_held = 0;
     nt_status s = collide(w, dt);
     if (s != NT_OK) {
         clear_move_marks(w); /* the pair search may have marked fast bodies: a failed step leaves no trace */

@@ -29,7 +29,15 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
  * met a tile surface it had not rested on; the correction after the move must look
  * at the body's pairs (kicked by the solve or fast: in the broad phase too; left
  * closing by the solve: its contacts only; response.c). */
-enum { NT__MF_SOLVED = 1, NT__MF_AIR = 2, NT__MF_SHIFT = 4, NT__MF_MET = 8, NT__MF_KICKED = 16, NT__MF_RECHECK = 32 };
+enum {
+    NT__MF_SOLVED = 1,
+    NT__MF_AIR = 2,
+    NT__MF_SHIFT = 4,
+    NT__MF_MET = 8,
+    NT__MF_KICKED = 16,
+    NT__MF_RECHECK = 32,
+    NT__MF_HELD = 64 /* at rest, its forces stopped exactly by its tile contacts (move_bodies) */
+};
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
 enum { NT__CF_SENSOR_A = 1, NT__CF_SENSOR_B = 2, NT__CF_SENSOR = 3, NT__CF_TOUCH = 4, NT__CF_GONE = 8 /* parked slot emptied */, NT__CF_BOUNCED = 16,
@@ -171,6 +179,8 @@ struct nt_world {
     nt_real pair_margin, pair_dt; /* the pair search's base margin and step (grid.c) */
     uint32_t tag;              /* names the world in its body handles (nt_body_id.world0) */
     uint32_t map_epoch;        /* bumped by every change of tiles, cell flags or cell materials */
+    uint32_t force_epoch;      /* bumped when the world's gravity changes (NT__MF_HELD) */
+    uint32_t held_epoch;       /* force_epoch at the last move */
     uint32_t *radix;           /* 2 x 8192 counters of the proxies' radix sort */
     int grid_w, grid_h;
     /* Coarser loose-grid levels 1..NT__LEVELS-1 for bodies above half a cell (grid.c):

@@ -60,6 +60,7 @@ void nt__sleep_body(nt_world *w, int32_t i)
     nt__body *b = &w->bodies[i];
     nt__awake_remove(w, i);
     b->v = nt_v2(0, 0);
+    b->motion &= (uint8_t)~NT__MF_HELD; /* the world may change while it sleeps */
     b->sleep_time = 0;
     if (b->gcell >= 0) {
         b->glist = NT__LIST_REST;

@@ -287,6 +287,7 @@ nt_status nt_world_set_gravity(nt_world *w, nt_vec2 g)
     if (!finite2(g)) return NT_ERR_NON_FINITE;
     if (!gravity_in_range(g)) return NT_ERR_OUT_OF_RANGE;
     w->def.gravity = g;
+    w->force_epoch++; /* resting bodies' forces are answered again (NT__MF_HELD) */
     nt__wake_all(w);
     return NT_OK;
 }
@@ -361,6 +362,7 @@ nt_status nt_world_set_material(nt_world *w, int index, nt_material m)
     nt_status s = check_material(&w->def, m);
     if (s != NT_OK) return s;
     w->materials[index] = m;
+    w->force_epoch++; /* resting bodies' friction is answered again (NT__MF_HELD) */
     return NT_OK;
 }
 
@@ -668,6 +670,7 @@ void nt__set_kinematic(nt_world *w, int32_t i, bool kinematic)
         b->sleep_time = 0;
     }
     b->v = nt_v2(0, 0);
+    b->motion &= (uint8_t)~NT__MF_HELD;
 }
 
 nt_shape nt_body_get_shape(const nt_world *w, nt_body_id id)
@@ -700,6 +703,7 @@ nt_status nt_body_set_position(nt_world *w, nt_body_id id, nt_vec2 p)
     /* Its remembered contacts are gone: it is not resting where it rested (even when
      * put back at the same place), so the next step resolves it. */
     b->flags &= (uint8_t)~NT__BF_RESTING;
+    b->motion &= (uint8_t)~NT__MF_HELD;
     if (b->gcell >= 0) nt__grid_update(w, i);
     if (b->type == NT_BODY_STATIC) nt__wake_partners(w, i);
     nt__wake(w, i);
@@ -721,6 +725,7 @@ nt_status nt_body_set_velocity(nt_world *w, nt_body_id id, nt_vec2 v)
     if (b->type == NT_BODY_STATIC) return NT_ERR_INVALID_ARGUMENT;
     int32_t i = id.index1 - 1;
     b->v = v;
+    b->motion &= (uint8_t)~NT__MF_HELD; /* its forces start from another velocity */
     if (b->type == NT_BODY_KINEMATIC) nt__wake_partners(w, i);
     nt__wake(w, i);
     return NT_OK;
@@ -736,6 +741,7 @@ nt_status nt_body_apply_impulse(nt_world *w, nt_body_id id, nt_vec2 impulse)
     nt_vec2 v = nt_v2(b->v.x + impulse.x * b->inv_mass, b->v.y + impulse.y * b->inv_mass);
     if (!finite2(v)) return NT_ERR_NON_FINITE;
     b->v = v;
+    b->motion &= (uint8_t)~NT__MF_HELD;
     nt__wake(w, id.index1 - 1);
     return NT_OK;
 }
@@ -757,6 +763,7 @@ nt_status nt_body_set_material(nt_world *w, nt_body_id id, nt_material m)
     if (s != NT_OK) return s;
     b->friction = m.friction;
     b->bounce = m.bounce;
+    b->motion &= (uint8_t)~NT__MF_HELD;
     return NT_OK;
 }
 
@@ -768,6 +775,7 @@ nt_status nt_body_set_gravity_scale(nt_world *w, nt_body_id id, nt_real scale)
     if (!nt__finite(scale)) return NT_ERR_NON_FINITE;
     if (!gravity_scale_in_range(scale)) return NT_ERR_OUT_OF_RANGE;
     b->gravity_scale = scale;
+    b->motion &= (uint8_t)~NT__MF_HELD;
     nt__wake(w, id.index1 - 1);
     return NT_OK;
 }
@@ -780,6 +788,7 @@ nt_status nt_body_set_linear_drag(nt_world *w, nt_body_id id, nt_real drag)
     if (!nt__finite(drag)) return NT_ERR_NON_FINITE;
     if (drag < 0) return NT_ERR_INVALID_ARGUMENT;
     b->drag = drag;
+    b->motion &= (uint8_t)~NT__MF_HELD;
     return NT_OK;
 }
 

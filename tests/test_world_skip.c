@@ -331,6 +331,107 @@ static void test_set_position_forgets_rest(void **state)
     nt_world_destroy(w);
 }
 
+static int held(const nt_world *w) { return nt_world_get_counters(w).bodies_held; }
+
+/* Three bodies dropped onto a FULL floor, no body contacts, no friction.
+ * Built twice: in `a` the step answers their gravity and surfaces from the step before
+ * (bodies_held) once they have settled; in `b` every body's velocity is set to itself
+ * before each step, which forgets that answer, so each step computes it. Both must
+ * agree to the bit. Then each change that alters the answer is seen at once. */
+static nt_world *held_world(nt_body_id id[3])
+{
+    nt_world *w = make_world(16, 10, 20);
+    fill(w, 0, 8, 15, 8, NT_TILE_FULL);
+    id[0] = add_body(w, nt_shape_aabb((nt_real)0.3, (nt_real)0.3), 2.5, 7.6, 0, 0);
+    id[1] = add_body(w, nt_shape_circle((nt_real)0.25), 5.5, 7.6, 0, 0);
+    id[2] = add_body(w, nt_shape_aabb((nt_real)0.2, (nt_real)0.2), 9.5, 7.6, 0, 0);
+    return w;
+}
+
+static void assert_same_bodies(const nt_world *a, const nt_world *b, const nt_body_id *ia, const nt_body_id *ib, int n)
+{
+    for (int i = 0; i < n; i++) {
+        nt_vec2 pa = nt_body_get_position(a, ia[i]), pb = nt_body_get_position(b, ib[i]);
+        nt_vec2 va = nt_body_get_velocity(a, ia[i]), vb = nt_body_get_velocity(b, ib[i]);
+        assert_memory_equal(&pa, &pb, sizeof pa);
+        assert_memory_equal(&va, &vb, sizeof va);
+        nt_body_tile_contacts ca, cb;
+        assert_int_equal(nt_body_get_tile_contacts(a, ia[i], &ca), NT_OK);
+        assert_int_equal(nt_body_get_tile_contacts(b, ib[i], &cb), NT_OK);
+        assert_int_equal(ca.count, cb.count);
+        assert_true(ca.on_floor && cb.on_floor);
+    }
+}
+
+static void test_resting_forces_held(void **state)
+{
+    (void)state;
+    nt_body_id ia[3], ib[3];
+    nt_world *a = held_world(ia), *b = held_world(ib);
+    const nt_real dt = (nt_real)DT;
+    for (int k = 0; k < 60; k++) {
+        assert_int_equal(nt_world_step(a, dt), NT_OK);
+        for (int i = 0; i < 3; i++)
+            assert_int_equal(nt_body_set_velocity(b, ib[i], nt_body_get_velocity(b, ib[i])), NT_OK);
+        assert_int_equal(nt_world_step(b, dt), NT_OK);
+        assert_int_equal(held(b), 0);
+    }
+    assert_int_equal(held(a), 3);
+    assert_same_bodies(a, b, ia, ib, 3);
+    nt_vec2 p0[3];
+    for (int i = 0; i < 3; i++) p0[i] = nt_body_get_position(a, ia[i]);
+
+    /* The step's length changes: answered again once, then from memory. */
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 0);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 3);
+    /* A body's own velocity, material or drag set (even to what it was): that body only. */
+    assert_int_equal(nt_body_set_velocity(a, ia[0], nt_v2(0, 0)), NT_OK);
+    nt_material m = nt_body_get_material(a, ia[1]);
+    assert_int_equal(nt_body_set_material(a, ia[1], m), NT_OK);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 1);
+    assert_int_equal(nt_body_set_linear_drag(a, ia[2], 0), NT_OK);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 2);
+    /* The world's materials set: every body. */
+    assert_int_equal(nt_world_set_material(a, 0, nt_world_get_material(a, 0)), NT_OK);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 0);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 3);
+    for (int i = 0; i < 3; i++) {
+        nt_vec2 p = nt_body_get_position(a, ia[i]);
+        assert_memory_equal(&p, &p0[i], sizeof p);
+    }
+
+    /* A gravity scale of -1: the box leaves the floor in the next step. */
+    assert_int_equal(nt_body_set_gravity_scale(a, ia[0], -1), NT_OK);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 2);
+    assert_true(nt_body_get_position(a, ia[0]).y < p0[0].y);
+    /* The world's gravity turns: both slide. */
+    assert_int_equal(nt_world_set_gravity(a, nt_v2(30, 20)), NT_OK);
+    assert_int_equal(nt_world_step(a, dt / 2), NT_OK);
+    assert_int_equal(held(a), 0);
+    for (int i = 1; i < 3; i++) assert_true(nt_body_get_position(a, ia[i]).x > p0[i].x);
+
+    /* A step with a body contact answers every body's forces in the solve. */
+    assert_int_equal(nt_world_set_gravity(a, nt_v2(0, 20)), NT_OK);
+    assert_int_equal(nt_body_set_gravity_scale(a, ia[0], 1), NT_OK);
+    for (int i = 0; i < 3; i++) assert_int_equal(nt_body_set_velocity(a, ia[i], nt_v2(0, 0)), NT_OK);
+    for (int k = 0; k < 150; k++) assert_int_equal(nt_world_step(a, dt), NT_OK);
+    assert_int_equal(held(a), 3);
+    nt_vec2 q = nt_body_get_position(a, ia[2]);
+    (void)add_body(a, nt_shape_aabb((nt_real)0.2, (nt_real)0.2), q.x, q.y - (nt_real)0.41, 0, 0);
+    assert_int_equal(nt_world_step(a, dt), NT_OK);
+    assert_true(nt_world_get_counters(a).contact_count > 0);
+    assert_int_equal(held(a), 0);
+    nt_world_destroy(a);
+    nt_world_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +441,7 @@ int main(void)
         cmocka_unit_test(test_glide_down_slope_onto_floor),
         cmocka_unit_test(test_glide_agrees_with_resolution),
         cmocka_unit_test(test_set_position_forgets_rest),
+        cmocka_unit_test(test_resting_forces_held),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -253,6 +253,9 @@ typedef struct nt_world_counters {
     int tile_resolutions; ///< exact tile resolutions (nt_map_resolve) the step needed: bodies in open
                           ///< air, resting where they rested, or gliding along a flat surface they
                           ///< touched (within the skin) need none
+    int bodies_held;      ///< bodies resting on tiles whose gravity and surfaces were answered from
+                          ///< the step before (the same forces against the same surfaces: stopped
+                          ///< again), in steps without body contacts
 } nt_world_counters;
 
 /// Counters of the last step.
