@@ -791,9 +791,38 @@ typedef struct moved_set {
     int n;
 } moved_set;
 
+/* What the correction after the move knows of support (NULL elsewhere): the levels
+ * (contacts from the ground, build_contact_lists) of the bodies in contacts, gravity,
+ * and how far along it a push must point for support to count (within 60 degrees). */
+typedef struct support {
+    const int32_t *lv;
+    const int32_t *inq; /* >= 0: in a contact, lv valid (correct_after_move) */
+    nt_vec2 g;
+    nt_real lim;
+    int levels; /* the levels count: only for a kicked body's pairs (in the queue's
+                 * pairs they pushed piles up bottom first until the visits ran out,
+                 * leaving a tenth of a cell at the top: the pile scene settled 0.1) */
+} support;
+
+static inline int32_t support_level(const nt_world *w, const support *sp, int32_t i)
+{
+    return w->bodies[i].awake_slot >= 0 && sp->inq[i] >= 0 ? sp->lv[i] : NT__NO_LEVEL;
+}
+
+/* held; after the move (sp given), also a body that bounced off a floor in the move
+ * and is pushed down into it: the lower body of a falling pair has no tile contact
+ * left then, and pushed into the floor by half the overlap it would be freed from the
+ * floor after the pushes, straight back into the upper one. */
+static inline int held_by_tile(const nt__body *b, nt_vec2 dir, const support *sp)
+{
+    return held(b, dir) || (sp && (b->motion & NT__MF_BOUNCED) && nt__dot(dir, sp->g) > sp->lim &&
+                            nt__dot(b->tc[0].n, sp->g) < -sp->lim && nt__dot(b->tc[0].n, dir) < (nt_real)(-0.1));
+}
+
 /* Push bodies ia and ib apart when they overlap deeper than the skin, by inverse mass.
- * Returns which moved (1: a, 2: b). */
-static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms)
+ * sp: the correction after the move's support rules, or NULL. Returns which moved (1:
+ * a, 2: b). */
+static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, const support *sp)
 {
     nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
     nt_real wa = solver_w(a), wb = solver_w(b);
@@ -812,9 +841,21 @@ static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms)
      * are held, the push is split anyway: the tile resolution slides each along its
      * surface (a circle sliding down a slope into one resting in a notch would
      * otherwise creep into it). */
-    int ha = wa > 0 && held(a, m.normal), hb = wb > 0 && held(b, nt_v2(-m.normal.x, -m.normal.y));
+    int ha = wa > 0 && held_by_tile(a, m.normal, sp);
+    int hb = wb > 0 && held_by_tile(b, nt_v2(-m.normal.x, -m.normal.y), sp);
     if (ha && !hb) wa = 0;
     if (hb && !ha) wb = 0;
+    /* With sp->levels, of two bodies pushed apart along gravity the one nearer the ground does
+     * not give way either: a body kicked down by a bounce from above into one resting
+     * on others goes back the whole way, instead of pushing that one half the overlap
+     * down, where its support pushes it back up into the kicked body (a pair no
+     * contact of this step: not tested again). */
+    if (sp && sp->levels && wa > 0 && wb > 0) {
+        nt_real gn = nt__dot(m.normal, sp->g); /* > 0: a is pushed down */
+        int32_t la = support_level(w, sp, ia), lb = support_level(w, sp, ib);
+        if (gn > sp->lim && la < lb) wa = 0;
+        else if (gn < -sp->lim && lb < la) wb = 0;
+    }
     if (wa + wb <= 0) return 0;
     /* Exactly 0 for a body that does not give way (d - d wa / wa can be an ulp, which
      * would count it as moved: a static body then went through the tile resolution). */
@@ -884,7 +925,7 @@ static void correct_positions(nt_world *w)
                 if (!fresh_a && !fresh_b) continue;
             }
             if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
-            if (!push_pair(w, ia, ib, &ms)) continue;
+            if (!push_pair(w, ia, ib, &ms, NULL)) continue;
             pushed = 1;
             push_it[ia] = push_it[ib] = it;
             push_k[ia] = push_k[ib] = k;
@@ -896,8 +937,9 @@ static void correct_positions(nt_world *w)
 
 /* After the move, the overlaps the velocity solve could not see: a body that met a
  * tile in the move turned back into one that kept coming (the lower one of a falling
- * pair bounces off a floor), a body the solve kicked farther than its pairs reach, a
- * fast body whose contacts may lie beyond the cells searched (NT__MF_KICKED marks
+ * pair bounces off a floor), a body moved to its time of impact with a partner that
+ * stopped at once (toi_shift), a body the solve kicked farther than its pairs reach,
+ * a fast body whose contacts may lie beyond the cells searched (NT__MF_KICKED marks
  * those). Their pairs are pushed apart, those of the bodies pushed then in turn, each
  * body's at most position_iterations times; the pairs that were no contact of this
  * step come from the broad phase around the marked bodies. */
@@ -939,7 +981,12 @@ static void correct_after_move(nt_world *w)
     moved_set ms = {w->wake_list, w->scratch_r, 0};
     int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap;
     int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
-    body_queue bq = {w->level /* the levels are used */, inq, w->body_cap, 0, 0, 0};
+    /* The queue in the level order's room (the levels themselves are read). */
+    body_queue bq = {w->level_q + 2 * w->body_cap, inq, w->body_cap, 0, 0, 0};
+    nt_vec2 g = w->def.gravity;
+    nt_real g2 = nt__dot(g, g);
+    support sup = {w->level, inq, g, (nt_real)0.5 * nt__sqrt(g2), 1}, *sp = g2 > 0 ? &sup : NULL;
+    support fl = {w->level, inq, g, sup.lim, 0}, *spq = g2 > 0 ? &fl : NULL;
     /* A body is in the contacts' lists when it is in a contact; mark those first. */
     for (int q = 0; q < w->awake_count; q++) {
         int32_t i = w->awake[q];
@@ -957,15 +1004,31 @@ static void correct_after_move(nt_world *w)
         if (inq[i] == 0) enqueue(&bq, i);
         /* One that met a tile has its pairs among the contacts; the others may not. */
         if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
-        int32_t found[32];
-        int nf = nt__grid_overlapping(w, i, found, 32);
-        for (int f = 0; f < nf; f++) {
-            int32_t j = found[f];
-            const nt__body *o = &w->bodies[j];
-            if (!plain_pair_body(w, j) || !nt__pair_filter(b, o)) continue;
-            int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms);
-            int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
-            if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
+        /* These pairs are no contacts, which the queue below would come back to: they
+         * are pushed here until i does not move (a body kicked among several, each push
+         * undoing some of the one before), at most position_iterations times; and
+         * once more from a new search when that moved the kicked body itself (pushed
+         * out sideways by a body that does not give way, it may now overlap others). */
+        for (int pass = 0; pass < 2; pass++) {
+            nt_vec2 p0 = b->p;
+            int32_t found[32];
+            int nf = nt__grid_overlapping(w, i, found, 32), kept = 0;
+            for (int f = 0; f < nf; f++) {
+                int32_t j = found[f];
+                if (plain_pair_body(w, j) && nt__pair_filter(b, &w->bodies[j])) found[kept++] = j;
+            }
+            for (int it = 0; it < iters; it++) {
+                int any = 0;
+                for (int f = 0; f < kept; f++) {
+                    int32_t j = found[f];
+                    int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, sp);
+                    any |= which & (i < j ? 1 : 2); /* only moving i can undo another pair */
+                    int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
+                    if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
+                }
+                if (!any || kept == 1) break; /* (one pair pushed apart stays apart) */
+            }
+            if (b->p.x == p0.x && b->p.y == p0.y) break;
         }
     }
     /* Then the contacts of the queued bodies, until none is pushed or each has had
@@ -979,7 +1042,7 @@ static void correct_after_move(nt_world *w)
         for (int32_t e = start[i]; e < end[i]; e++) {
             const nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
-            int which = push_pair(w, ia, ib, &ms);
+            int which = push_pair(w, ia, ib, &ms, spq);
             for (int s = 0; s < 2; s++) {
                 int32_t j = s ? ib : ia;
                 if (!(which & (1 << s)) || w->bodies[j].awake_slot < 0 || inq[j] != 0 || visits[j] >= iters) continue;
@@ -1106,6 +1169,12 @@ static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
     nt_real t = s[0];
     s[0] = (b->v.x - v.x) * t;
     s[1] = (b->v.y - v.y) * t;
+    /* The shift assumes the partner keeps its old velocity up to the impact too, which
+     * one resting on others does not (it stops now): a row of a pile landing on the
+     * row beneath ended a fifth of a cell into it. The correction after the move
+     * looks at the shifted body's contacts. */
+    b->motion |= NT__MF_RECHECK;
+    w->kicked_count++;
 }
 
 /* After the iterations, which leave a tall stack still closing a little at every
@@ -1560,7 +1629,7 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
     *cell = -1;
     if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, q, b->half, cell) : open_box(w, q, b->half))) return 0;
-    b->motion = (uint8_t)((b->motion & ~NT__MF_MET) | NT__MF_AIR);
+    b->motion = (uint8_t)((b->motion & ~(NT__MF_MET | NT__MF_BOUNCED)) | NT__MF_AIR);
     if (q.x == b->p.x && q.y == b->p.y) {
         b->flags |= NT__BF_RESTING;
         b->rest_p = q;
@@ -1577,7 +1646,7 @@ static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_
     const nt_real dt = mc->dt;
     nt__body *b = &w->bodies[i];
     nt_vec2 disp = nt__scale(b->v, dt);
-    b->motion &= (uint8_t)~NT__MF_MET;
+    b->motion &= (uint8_t)~(NT__MF_MET | NT__MF_BOUNCED);
     /* The time-of-impact shift (toi_shift), swept with the step's own travel. */
     int shifted = (b->motion & NT__MF_SHIFT) != 0;
     nt_vec2 shift = nt_v2(0, 0);
@@ -1639,6 +1708,12 @@ static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_
         }
     }
     for (int k = 0; k < b->ntc; k++) b->tc[k].solved = 0;
+    /* Met a surface and left it again within the move (a bounce, in one substep or
+     * over several): the surface for the correction after the move. */
+    if (!b->ntc && (b->motion & NT__MF_MET) && hit.speed > 0) {
+        b->motion |= NT__MF_BOUNCED;
+        b->tc[0].n = hit.n;
+    }
     if (hit.speed > 0 && hit.speed >= w->def.hit_event_threshold && (b->flags & NT__BF_HITS)) {
         nt_hit_event *e = &w->ev_hit[w->n_hit++];
         e->a = id_of(w, i, b->generation);
@@ -1678,7 +1753,7 @@ static inline int plus_zero(nt_vec2 v)
  * solve answers every body's forces. */
 static inline void rest_again(nt__body *b)
 {
-    b->motion &= (uint8_t)~NT__MF_MET;
+    b->motion &= (uint8_t)~(NT__MF_MET | NT__MF_BOUNCED);
     for (int c = 0; c < b->ntc; c++) {
         b->tc[c].lambda = 0;
         b->tc[c].solved = 0;

@@ -28,7 +28,9 @@ enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
  * solve to the move, a time-of-impact shift waits in scratch_r (response.c); the move
  * met a tile surface it had not rested on; the correction after the move must look
  * at the body's pairs (kicked by the solve or fast: in the broad phase too; left
- * closing by the solve: its contacts only; response.c). */
+ * closing by the solve: its contacts only; response.c); the move bounced the body
+ * off the surface of normal tc[0].n and left it no tile contact (ntc 0; read by the
+ * correction after the move only). */
 enum {
     NT__MF_SOLVED = 1,
     NT__MF_AIR = 2,
@@ -36,7 +38,8 @@ enum {
     NT__MF_MET = 8,
     NT__MF_KICKED = 16,
     NT__MF_RECHECK = 32,
-    NT__MF_HELD = 64 /* at rest, its forces stopped exactly by its tile contacts (move_bodies) */
+    NT__MF_BOUNCED = 64,
+    NT__MF_HELD = 128 /* at rest, its forces stopped exactly by its tile contacts (move_bodies) */
 };
 /* Contact flags: which side is a sensor; touching = overlapping or closer than the
  * skin (else a near contact, solved but not reported). */
