@@ -225,6 +225,18 @@ static inline int nt__map_tile(const nt_map *map, int x, int y)
  * baseline x86-64 has no rounding instruction, and this runs for every cell range.
  * The clamp is two selects (max/min instructions, NaN falls to the first), not a
  * branch: 1e9 is exact in float and double, so clamped values convert exactly. */
+/* Index of the lowest set bit (bits != 0). */
+static inline int nt__ctz64(uint64_t bits)
+{
+#if defined(__GNUC__)
+    return __builtin_ctzll(bits);
+#else
+    int n = 0;
+    while (!(bits & 1)) bits >>= 1, n++;
+    return n;
+#endif
+}
+
 static inline int nt__floor_int(nt_real v)
 {
     v = v > (nt_real)-1e9 ? v : (nt_real)-1e9;

@@ -149,18 +149,6 @@ static inline void unlink(nt_world *w, int32_t i)
     b->gnext = b->gprev = -1;
 }
 
-/* Index of the lowest set bit (bits != 0). */
-static inline int nt__ctz64(uint64_t bits)
-{
-#if defined(__GNUC__)
-    return __builtin_ctzll(bits);
-#else
-    int n = 0;
-    while (!(bits & 1)) bits >>= 1, n++;
-    return n;
-#endif
-}
-
 /* The coarser level's cell of a centre (clamped to the level's grid). */
 static inline int32_t level_cell(const nt_world *w, int k, nt_vec2 p)
 {
@@ -513,7 +501,7 @@ static nt_status build_proxies(nt_world *w, int *count)
         nt_real fx = b->p.x * w->inv_cell - (nt_real)(cellix % gw), fy = b->p.y * w->inv_cell - (nt_real)(cellix / gw);
         nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
         if (rx > (nt_real)1.5 || ry > (nt_real)1.5) {
-            w->bodies[i].motion |= NT__MF_KICKED;
+            nt__mark_move(w, &w->bodies[i], NT__MF_KICKED);
             w->kicked_count++;
         }
         q->body = i;

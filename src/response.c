@@ -651,7 +651,7 @@ static void respond_tiles(nt_world *w, nt__body *b, const nt_resolution *res, hi
         }
         nt_real a = nt__dot(b->v, n);
         if (a >= 0) continue;
-        b->motion |= NT__MF_MET;
+        nt__mark_move(w, b, NT__MF_MET);
         nt_real f, e, dn;
         tile_material(w, b, cell_material_index(w, res->contacts[k].cell_x, res->contacts[k].cell_y), &f, &e);
         if (-a < w->def.restitution_threshold) e = 0;
@@ -994,41 +994,46 @@ static void correct_after_move(nt_world *w)
         inq[i] = -1; /* not in a contact */
     }
     for (int k = 0; k < w->con_count; k++) inq[key_a(w->con[k].key)] = inq[key_b(w->con[k].key)] = 0;
-    /* The flagged bodies: pairs beyond the contacts from the broad phase first. */
-    for (int q = 0; q < w->awake_count; q++) {
-        int32_t i = w->awake[q];
-        nt__body *b = &w->bodies[i];
-        if (!(b->motion & (NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK))) continue;
-        int kicked = (b->motion & NT__MF_KICKED) != 0;
-        b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
-        if (inq[i] == 0) enqueue(&bq, i);
-        /* One that met a tile has its pairs among the contacts; the others may not. */
-        if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
-        /* These pairs are no contacts, which the queue below would come back to: they
-         * are pushed here until i does not move (a body kicked among several, each push
-         * undoing some of the one before), at most position_iterations times; and
-         * once more from a new search when that moved the kicked body itself (pushed
-         * out sideways by a body that does not give way, it may now overlap others). */
-        for (int pass = 0; pass < 2; pass++) {
-            nt_vec2 p0 = b->p;
-            int32_t found[32];
-            int nf = nt__grid_overlapping(w, i, found, 32), kept = 0;
-            for (int f = 0; f < nf; f++) {
-                int32_t j = found[f];
-                if (plain_pair_body(w, j) && nt__pair_filter(b, &w->bodies[j])) found[kept++] = j;
-            }
-            for (int it = 0; it < iters; it++) {
-                int any = 0;
-                for (int f = 0; f < kept; f++) {
+    /* The marked bodies in awake order (nt__mark_move): pairs beyond the contacts from
+     * the broad phase first. */
+    for (int word = 0; word < (w->awake_count + 63) / 64; word++) {
+        uint64_t bits = w->move_marks[word];
+        w->move_marks[word] = 0;
+        for (; bits; bits &= bits - 1) {
+            int32_t i = w->awake[word * 64 + nt__ctz64(bits)];
+            nt__body *b = &w->bodies[i];
+            if (!(b->motion & (NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK))) continue;
+            int kicked = (b->motion & NT__MF_KICKED) != 0;
+            b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
+            if (inq[i] == 0) enqueue(&bq, i);
+            /* One that met a tile has its pairs among the contacts; the others may not. */
+            if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
+            /* These pairs are no contacts, which the queue below would come back to: they
+             * are pushed here until i does not move (a body kicked among several, each push
+             * undoing some of the one before), at most position_iterations times; and
+             * once more from a new search when that moved the kicked body itself (pushed
+             * out sideways by a body that does not give way, it may now overlap others). */
+            for (int pass = 0; pass < 2; pass++) {
+                nt_vec2 p0 = b->p;
+                int32_t found[32];
+                int nf = nt__grid_overlapping(w, i, found, 32), kept = 0;
+                for (int f = 0; f < nf; f++) {
                     int32_t j = found[f];
-                    int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, sp);
-                    any |= which & (i < j ? 1 : 2); /* only moving i can undo another pair */
-                    int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
-                    if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
+                    if (plain_pair_body(w, j) && nt__pair_filter(b, &w->bodies[j])) found[kept++] = j;
                 }
-                if (!any || kept == 1) break; /* (one pair pushed apart stays apart) */
+                for (int it = 0; it < iters; it++) {
+                    int any = 0;
+                    for (int f = 0; f < kept; f++) {
+                        int32_t j = found[f];
+                        int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, sp);
+                        any |= which & (i < j ? 1 : 2); /* only moving i can undo another pair */
+                        int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
+                        if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
+                    }
+                    if (!any || kept == 1) break; /* (one pair pushed apart stays apart) */
+                }
+                if (b->p.x == p0.x && b->p.y == p0.y) break;
             }
-            if (b->p.x == p0.x && b->p.y == p0.y) break;
         }
     }
     /* Then the contacts of the queued bodies, until none is pushed or each has had
@@ -1173,7 +1178,7 @@ static inline void toi_shift(nt_world *w, int32_t i, nt_vec2 v, nt_real wi)
      * one resting on others does not (it stops now): a row of a pile landing on the
      * row beneath ended a fifth of a cell into it. The correction after the move
      * looks at the shifted body's contacts. */
-    b->motion |= NT__MF_RECHECK;
+    nt__mark_move(w, b, NT__MF_RECHECK);
     w->kicked_count++;
 }
 
@@ -1457,8 +1462,8 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             if (!(nt__dot(nt__sub(sv[c->sb].v, sv[c->sa].v), c->n) < c->bias - slack)) continue;
             /* (Only bodies that move: the correction after the move clears the marks of
              * the awake bodies.) */
-            if (sv[c->sa].w > 0) w->bodies[key_a(c->key)].motion |= NT__MF_RECHECK;
-            if (sv[c->sb].w > 0) w->bodies[key_b(c->key)].motion |= NT__MF_RECHECK;
+            if (sv[c->sa].w > 0) nt__mark_move(w, &w->bodies[key_a(c->key)], NT__MF_RECHECK);
+            if (sv[c->sb].w > 0) nt__mark_move(w, &w->bodies[key_b(c->key)], NT__MF_RECHECK);
             w->kicked_count++;
         }
     }
@@ -1479,7 +1484,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
             if (w->bodies[i].type == NT_BODY_STATIC) continue;
             toi_shift(w, i, sv[q].v, sv[q].w);
             if (kicked_out(w, w->bodies[i].v, sv[q].v, dt)) {
-                w->bodies[i].motion |= NT__MF_KICKED;
+                nt__mark_move(w, &w->bodies[i], NT__MF_KICKED);
                 w->kicked_count++;
             }
             w->bodies[i].v = sv[q].v;
@@ -1547,7 +1552,7 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
         return 0;
     b->p = q;
     b->v = nt__add(vr, nt__scale(ga, left));
-    b->motion |= NT__MF_MET;
+    nt__mark_move(w, b, NT__MF_MET);
     if (-a > hit->speed) {
         hit->speed = -a;
         hit->n = n;
@@ -1853,7 +1858,10 @@ nt_status nt__step(nt_world *w, nt_real dt)
     w->kicked_count = 0;
     w->counters.tile_resolutions = 0;
     w->counters.bodies_held = 0;
+    /* The last step's marks for the correction, off (their slots may have moved). */
+    memset(w->move_marks, 0, (size_t)((w->marks_span + 63) / 64) * sizeof *w->move_marks);
     nt_status s = collide(w, dt);
+    w->marks_span = w->awake_count; /* (the step only appends to the awake bodies) */
     if (s != NT_OK) {
         clear_move_marks(w); /* the pair search may have marked fast bodies: a failed step leaves no trace */
         return s;

@@ -224,6 +224,8 @@ struct nt_world {
     int cap_begin, cap_end, cap_hit, cap_sbegin, cap_send;
 
     int32_t *wake_list;        /* bodies to wake after pair finding (capacity body_cap) */
+    uint64_t *move_marks;      /* a bit per awake slot: marked for the correction after the move (nt__mark_move) */
+    int marks_span;            /* awake slots the last step may have marked */
     nt__svel *svel;            /* the velocity solver's compact bodies (capacity body_cap) */
     nt__stile *stile;          /* the velocity solver's tile contacts (capacity body_cap) */
     int32_t *level;            /* per body: contacts from the ground, this step's solve; then the
@@ -319,6 +321,15 @@ static inline nt_vec2 nt__solve_velocity_g(nt_vec2 gravity, const nt__body *b, n
 static inline nt_vec2 nt__solve_velocity(const nt_world *w, const nt__body *b, nt_real dt)
 {
     return nt__solve_velocity_g(w->def.gravity, b, dt);
+}
+/* Mark body b for the correction after the move (flag: NT__MF_KICKED, NT__MF_RECHECK
+ * or NT__MF_MET) and note its awake slot, so that the correction visits the marked
+ * bodies in awake order without reading every body (response.c). Slots do not move
+ * from the pair search to the correction: bodies are only woken (appended) then. */
+static inline void nt__mark_move(nt_world *w, nt__body *b, unsigned flag)
+{
+    b->motion |= (uint8_t)flag;
+    if (b->awake_slot >= 0) w->move_marks[(uint32_t)b->awake_slot >> 6] |= (uint64_t)1 << (b->awake_slot & 63);
 }
 static inline bool nt__body_in_grid(const nt__body *b) { return b->mask != 0 && b->category != 0; }
 static inline nt_shape nt__body_shape(const nt__body *b)

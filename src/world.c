@@ -106,7 +106,9 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__stile *st = (nt__stile *)nt__alloc(n * sizeof *st);
     int32_t *lv = (int32_t *)nt__alloc(n * sizeof *lv);
     int32_t *lq = (int32_t *)nt__alloc(3 * n * sizeof *lq);
-    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq) {
+    uint64_t *mm = (uint64_t *)nt__alloc((n / 64 + 1) * sizeof *mm);
+    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq || !mm) {
+        nt__free(mm);
         nt__free(lv);
         nt__free(lq);
         nt__free(wk);
@@ -137,6 +139,9 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__free(w->stile);
     nt__free(w->level);
     nt__free(w->level_q);
+    nt__free(w->move_marks);
+    memset(mm, 0, (n / 64 + 1) * sizeof *mm);
+    w->move_marks = mm;
     w->level = lv;
     w->level_q = lq;
     w->woken = wk;
@@ -214,6 +219,7 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->stile);
     nt__free(w->level);
     nt__free(w->level_q);
+    nt__free(w->move_marks);
     nt__free(w->adj);
     nt__free(w->heads);
     nt__free(w->occupied);
