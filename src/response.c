@@ -1859,7 +1859,7 @@ nt_status nt__step(nt_world *w, nt_real dt)
     w->counters.tile_resolutions = 0;
     w->counters.bodies_held = 0;
     /* The last step's marks for the correction, off (their slots may have moved). */
-    memset(w->move_marks, 0, (size_t)((w->marks_span + 63) / 64) * sizeof *w->move_marks);
+    if (w->marks_span > 0) memset(w->move_marks, 0, (size_t)((w->marks_span + 63) / 64) * sizeof *w->move_marks);
     nt_status s = collide(w, dt);
     w->marks_span = w->awake_count; /* (the step only appends to the awake bodies) */
     if (s != NT_OK) {
