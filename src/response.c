@@ -365,8 +365,10 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
  * cell (the map's and the grid's), set when it lies in the map. */
 static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 p, nt_vec2 h, int32_t *cell)
 {
-    int cx = nt__ifloor(p.x * ic), cy = nt__ifloor(p.y * ic);
-    if (!nt__map_in(m, cx, cy)) return 0; /* covers border cells */
+    nt_real gx = p.x * ic, gy = p.y * ic;
+    /* In the map (border cells covered, NaN refused); there truncation is the floor. */
+    if (!(gx >= 0 && gx < (nt_real)m->w && gy >= 0 && gy < (nt_real)m->h)) return 0;
+    int cx = (int)gx, cy = (int)gy;
     *cell = (int32_t)cy * m->w + cx;
     unsigned near = m->near9[*cell];
     if (!near) return 1;
