@@ -238,14 +238,15 @@ static inline int nt__ctz64(uint64_t bits)
 }
 
 /* floor(v) as an int, clamped to +-1e9 (NaN: -1e9). Maps lie at non-negative
- * coordinates, where truncation is the floor: that case first, without the clamps. */
+ * coordinates, where truncation is the floor: that case first. */
 static inline int nt__floor_int(nt_real v)
 {
     if (v >= 0 && v < (nt_real)1e9) return (int)v;
-    v = v > (nt_real)-1e9 ? v : (nt_real)-1e9;
-    v = v < (nt_real)1e9 ? v : (nt_real)1e9;
-    int i = (int)v;
-    return i - ((nt_real)i > v);
+    if (v < 0 && v > (nt_real)-1e9) {
+        int i = (int)v;
+        return i - ((nt_real)i > v);
+    }
+    return v >= (nt_real)1e9 ? 1000000000 : -1000000000;
 }
 
 #if defined(__GNUC__)
