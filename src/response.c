@@ -45,6 +45,9 @@ static inline nt_real solver_w(const nt__body *b)
     return (b->type == NT_BODY_DYNAMIC && b->awake_slot >= 0) ? b->inv_mass : 0;
 }
 
+/* Whether both bodies of a contact still exist: between steps a body may have been
+ * destroyed. Within a step, after the merge (collide), every contact is this step's
+ * and needs no such test. */
 static inline int contact_live(const nt_world *w, const nt__contact *c) { return nt__contact_is_live(w, c); }
 
 /* ---------------------------------------------------------------- 1. collide */
@@ -711,7 +714,7 @@ static void build_contact_lists(nt_world *w)
     /* Degrees, and the roots of the levels. */
     for (int k = 0; k < nc; k++) {
         nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        if (c->flags & NT__CF_SENSOR) continue;
         int32_t ia = key_a(c->key), ib = key_b(c->key);
         end[ia]++;
         end[ib]++;
@@ -752,7 +755,7 @@ static void build_contact_lists(nt_world *w)
     }
     for (int k = 0; k < nc; k++) {
         const nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        if (c->flags & NT__CF_SENSOR) continue;
         int32_t ia = key_a(c->key), ib = key_b(c->key);
         int both_move = leveled && solver_w(&w->bodies[ia]) > 0 && solver_w(&w->bodies[ib]) > 0;
         int32_t e = both_move ? k : -1 - k;
@@ -926,7 +929,7 @@ static void correct_positions(nt_world *w)
                 int fresh_b = push_it[ib] > it - 1 || (push_it[ib] == it - 1 && push_k[ib] >= k);
                 if (!fresh_a && !fresh_b) continue;
             }
-            if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+            if (c->flags & NT__CF_SENSOR) continue;
             if (!push_pair(w, ia, ib, &ms, NULL)) continue;
             pushed = 1;
             push_it[ia] = push_it[ib] = it;
@@ -1346,7 +1349,7 @@ static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         c->meff = 0;
-        if ((c->flags & NT__CF_SENSOR) || !contact_live(w, c)) continue;
+        if (c->flags & NT__CF_SENSOR) continue;
         nt__body *a = &w->bodies[key_a(c->key)], *b = &w->bodies[key_b(c->key)];
         nt_real wa = solver_w(a), wb = solver_w(b);
         if (wa + wb <= 0) continue;

@@ -314,7 +314,7 @@ void nt__update_sleep(nt_world *w, nt_real dt)
     /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
     for (int k = 0; k < w->con_count; k++) {
         const nt__contact *c = &w->con[k];
-        if ((c->flags & NT__CF_SENSOR) || !nt__contact_is_live(w, c)) continue;
+        if (c->flags & NT__CF_SENSOR) continue; /* (within the step every contact is live) */
         int32_t ia = key_a(c->key), ib = key_b(c->key);
         nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
         /* A moving kinematic body keeps what it touches awake. */
