@@ -370,39 +370,43 @@ static nt_body_id rain_body(nt_world *w, double half, double x, double y, double
     return id;
 }
 
+/* The worst overlap of the bodies' pairs over `steps` steps; the world is destroyed. */
+static double worst_over_steps(nt_world *w, const nt_body_id *ids, int n, double dt, int steps)
+{
+    double worst = 0;
+    for (int s = 0; s < steps; s++) {
+        assert_int_equal(nt_world_step(w, R(dt)), NT_OK);
+        worst = fmax(worst, max_pair_overlap(w, ids, n));
+    }
+    nt_world_destroy(w);
+    return worst;
+}
+
 static void test_falling_pairs_of_rain(void **state)
 {
     (void)state;
     const double dt = 1.0 / 40, tol = 0.02;
+    const int W = 8, H = 12;
+    const double floor_y = H - 1;
     double worst_kick = 0, worst_bounce = 0;
     for (int k = 0; k < 6; k++)
         for (int o = 0; o < 3; o++) {
-            const int W = 8, H = 12;
             nt_world *w = rain_world(W, H);
-            double floor_y = H - 1, gap = 0.05 + 0.01 * k, dx = 0.1 * o;
+            double gap = 0.05 + 0.01 * k, dx = 0.1 * o;
             nt_body_id ids[3];
             ids[0] = rain_body(w, 0.3, 3.5, floor_y - 0.3, 0);
             ids[1] = rain_body(w, 0.29, 3.5 + dx, floor_y - 0.6 - gap - 0.29, 0);
             ids[2] = rain_body(w, 0.28, 3.5 + dx, floor_y - 1.18 - gap - 0.6 - 0.28, 25);
-            for (int s = 0; s < 20; s++) {
-                assert_int_equal(nt_world_step(w, R(dt)), NT_OK);
-                worst_kick = fmax(worst_kick, max_pair_overlap(w, ids, 3));
-            }
-            nt_world_destroy(w);
+            worst_kick = fmax(worst_kick, worst_over_steps(w, ids, 3, dt, 20));
         }
     for (int k = 0; k < 8; k++)
         for (int o = 0; o < 3; o++) {
-            const int W = 8, H = 12;
             nt_world *w = rain_world(W, H);
-            double floor_y = H - 1, lift = 0.02 + 0.01 * k, dx = 0.15 * o;
+            double lift = 0.02 + 0.01 * k, dx = 0.15 * o;
             nt_body_id ids[2];
             ids[0] = rain_body(w, 0.26, 3.5, floor_y - 0.26 - lift, 12);
             ids[1] = rain_body(w, 0.38, 3.5 + dx, floor_y - 0.52 - lift - 0.17 - 0.38, 17);
-            for (int s = 0; s < 20; s++) {
-                assert_int_equal(nt_world_step(w, R(dt)), NT_OK);
-                worst_bounce = fmax(worst_bounce, max_pair_overlap(w, ids, 2));
-            }
-            nt_world_destroy(w);
+            worst_bounce = fmax(worst_bounce, worst_over_steps(w, ids, 2, dt, 20));
         }
     printf("  rain's falling pairs: worst pair overlap %.3g cell (kicked), %.3g cell (bounced)\n", worst_kick,
            worst_bounce);
