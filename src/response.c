@@ -365,20 +365,24 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
  * is at most half a cell, so it lies within the 3 x 3 cells around its centre's, and
  * each end of its range is that cell or the one next to it: comparisons find which,
  * and the cell's near9 mask says whether those cells are all EMPTY. *cell: the centre's
- * cell (the map's and the grid's), set when it lies in the map. */
+ * cell (the map's and the grid's), set only when the answer is yes (the body then
+ * moves there; otherwise it may end elsewhere). */
 static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 p, nt_vec2 h, int32_t *cell)
 {
     nt_real gx = p.x * ic, gy = p.y * ic;
     /* In the map (border cells covered, NaN refused); there truncation is the floor. */
     if (!(gx >= 0 && gx < (nt_real)m->w && gy >= 0 && gy < (nt_real)m->h)) return 0;
     int cx = (int)gx, cy = (int)gy;
-    *cell = (int32_t)cy * m->w + cx;
-    unsigned near = m->near9[*cell];
-    if (!near) return 1;
-    unsigned cols = 2u | ((p.x - h.x) * ic < (nt_real)cx ? 1u : 0u) | ((p.x + h.x) * ic >= (nt_real)(cx + 1) ? 4u : 0u);
-    unsigned rows = 2u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 4u : 0u);
-    unsigned covered = ((rows & 1u) ? cols : 0u) | ((rows & 2u) ? cols << 3 : 0u) | ((rows & 4u) ? cols << 6 : 0u);
-    return (near & covered) == 0;
+    int32_t c = (int32_t)cy * m->w + cx;
+    unsigned near = m->near9[c];
+    if (near) {
+        unsigned cols = 2u | ((p.x - h.x) * ic < (nt_real)cx ? 1u : 0u) | ((p.x + h.x) * ic >= (nt_real)(cx + 1) ? 4u : 0u);
+        unsigned rows = 2u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 4u : 0u);
+        unsigned covered = ((rows & 1u) ? cols : 0u) | ((rows & 2u) ? cols << 3 : 0u) | ((rows & 4u) ? cols << 6 : 0u);
+        if (near & covered) return 0;
+    }
+    *cell = c;
+    return 1;
 }
 
 static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)

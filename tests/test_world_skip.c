@@ -432,6 +432,57 @@ static void test_resting_forces_held(void **state)
     nt_world_destroy(b);
 }
 
+/* The grid lists a body under the cell of its centre after every step (clamped into
+ * the grid): bodies bouncing fast among random tiles, whose open-air test fails at the
+ * place they fly to and whose move ends elsewhere. */
+static void test_grid_cell_follows_body(void **state)
+{
+    (void)state;
+    unsigned rng = 12345u;
+    int checked = 0;
+    for (int seed = 0; seed < 40; seed++) {
+        nt_world_def wd = nt_default_world_def();
+        wd.map.width = 12;
+        wd.map.height = 10;
+        wd.map.cell_size = 24;
+        nt_world *w = NULL;
+        assert_int_equal(nt_world_create(&wd, &w), NT_OK);
+        for (int y = 0; y < 10; y++)
+            for (int x = 0; x < 12; x++) {
+                rng = rng * 1103515245u + 12345u;
+                int t = NT_TILE_EMPTY;
+                if (y == 9 || x == 0 || x == 11) t = NT_TILE_FULL;
+                else if (y >= 4 && (rng >> 8) % 3 == 0) t = 2 + (int)((rng >> 12) % 32);
+                assert_int_equal(nt_world_set_tile(w, x, y, t), NT_OK);
+            }
+        for (int k = 0; k < 12; k++) {
+            rng = rng * 1103515245u + 12345u;
+            nt_body_def bd = nt_default_body_def();
+            double hx = 3 + (rng >> 8) % 9, hy = 3 + (rng >> 12) % 9;
+            bd.shape = (rng >> 20) & 1 ? nt_shape_circle((nt_real)hx) : nt_shape_aabb((nt_real)hx, (nt_real)hy);
+            bd.position = nt_v2((nt_real)(30 + (rng >> 4) % 230), (nt_real)(20 + (rng >> 9) % 60));
+            bd.velocity = nt_v2((nt_real)((int)((rng >> 3) % 600) - 300), (nt_real)((int)((rng >> 11) % 600) - 300));
+            bd.material.bounce = 1;
+            nt_body_id id;
+            assert_int_equal(nt_body_create(w, &bd, &id), NT_OK);
+        }
+        for (int s = 0; s < 60; s++) {
+            assert_int_equal(nt_world_step(w, (nt_real)DT), NT_OK);
+            for (int i = 0; i < w->body_hwm; i++) {
+                const nt__body *b = &w->bodies[i];
+                if (!(b->flags & NT__BF_ALIVE) || b->gcell < 0 || b->level) continue;
+                int cx = nt__ifloor(b->p.x * w->inv_cell), cy = nt__ifloor(b->p.y * w->inv_cell);
+                cx = cx < 0 ? 0 : cx >= w->grid_w ? w->grid_w - 1 : cx;
+                cy = cy < 0 ? 0 : cy >= w->grid_h ? w->grid_h - 1 : cy;
+                assert_int_equal(b->gcell >> 1, cy * w->grid_w + cx);
+                checked++;
+            }
+        }
+        nt_world_destroy(w);
+    }
+    assert_true(checked > 20000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -442,6 +493,7 @@ int main(void)
         cmocka_unit_test(test_glide_agrees_with_resolution),
         cmocka_unit_test(test_set_position_forgets_rest),
         cmocka_unit_test(test_resting_forces_held),
+        cmocka_unit_test(test_grid_cell_follows_body),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
