@@ -234,6 +234,10 @@ void nt__wake_partners(nt_world *w, int32_t i)
 
 /* ---------------------------------------------------------------- falling asleep */
 
+/* The union-find of nt__update_sleep: parent per body (-1: an awake body that is not
+ * dynamic, never joined), and per root the least sleep_time of its set's awake bodies
+ * (NT_REAL_MAX for the sleeping ones), kept by the unions so that no later pass reads
+ * the bodies' records again. */
 static int32_t uf_find(int32_t *parent, int32_t i)
 {
     while (parent[i] != i) {
@@ -243,18 +247,23 @@ static int32_t uf_find(int32_t *parent, int32_t i)
     return i;
 }
 
-static void uf_union(int32_t *parent, int32_t a, int32_t b)
+static void uf_union(int32_t *parent, nt_real *tmin, int32_t a, int32_t b)
 {
     a = uf_find(parent, a);
     b = uf_find(parent, b);
     if (a == b) return;
     /* The smaller index becomes the root: the result does not depend on the order. */
-    if (a < b) parent[b] = a;
-    else parent[a] = b;
+    if (a > b) {
+        int32_t t = a;
+        a = b;
+        b = t;
+    }
+    parent[b] = a;
+    if (tmin[b] < tmin[a]) tmin[a] = tmin[b];
 }
 
 /* Make an asleep body's whole group one union-find set (first time it is seen). */
-static void uf_add_sleeping(nt_world *w, int32_t *parent, int32_t *head, nt_real *tmin, int32_t i)
+static void uf_add_sleeping(nt_world *w, int32_t *parent, nt_real *tmin, int32_t i)
 {
     nt__body *b = &w->bodies[i];
     if (b->flags & NT__BF_MARK) return;
@@ -262,101 +271,115 @@ static void uf_add_sleeping(nt_world *w, int32_t *parent, int32_t *head, nt_real
     do {
         w->bodies[j].flags |= NT__BF_MARK;
         parent[j] = j;
-        head[j] = -1;
         tmin[j] = NT_REAL_MAX;
         j = w->bodies[j].sleep_next;
     } while (j >= 0 && j != i);
     j = i;
     do {
-        uf_union(parent, i, j);
+        uf_union(parent, tmin, i, j);
         j = w->bodies[j].sleep_next;
     } while (j >= 0 && j != i);
 }
 
+/* Clear the marks of body i's group if it has them, adding it to the sleepers if its
+ * set sleeps. */
+static int take_marked_group(nt_world *w, int32_t *parent, const nt_real *tmin, int32_t *list, int n, int32_t i)
+{
+    if (!(w->bodies[i].flags & NT__BF_MARK)) return n;
+    int sleeps = tmin[uf_find(parent, i)] >= w->def.sleep_time;
+    int32_t j = i;
+    do {
+        w->bodies[j].flags &= (uint8_t)~NT__BF_MARK;
+        if (sleeps) list[n++] = j;
+        j = w->bodies[j].sleep_next;
+    } while (j >= 0 && j != i);
+    return n;
+}
+
+/* The body records (156 bytes in float builds, a cache miss each in a big world) are
+ * read by one pass over the awake bodies and one over the contacts; the later passes
+ * read the scratch arrays (4 bytes a body) and only the sleepers' records. */
 void nt__update_sleep(nt_world *w, nt_real dt)
 {
     if (!w->def.enable_sleep) return;
     nt_real v2max = w->def.sleep_speed * w->def.sleep_speed;
-    int32_t *parent = w->scratch_a, *head = w->scratch_a + w->body_cap;
+    int32_t *parent = w->scratch_a, *seen = w->scratch_a + w->body_cap;
     nt_real *tmin = w->scratch_r;
-    int candidates = 0;
+    int32_t *list = w->wake_list;
+    int n = 0;
     /* With no body contacts every body is an island of its own: no union-find. */
     const int islands = w->con_count > 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
         nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
+        if (b->type != NT_BODY_DYNAMIC) {
+            if (islands) parent[i] = -1;
+            continue;
+        }
         if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
         else b->sleep_time += dt;
-        if (b->sleep_time >= w->def.sleep_time) candidates++;
+        /* Without islands the sleepers, gathered before sleeping (which reorders the
+         * awake array); with islands only whether there are any. */
+        if (b->sleep_time >= w->def.sleep_time) list[n++] = i;
         if (islands) {
             parent[i] = i;
-            head[i] = -1;
-            tmin[i] = NT_REAL_MAX;
+            tmin[i] = b->sleep_time;
         }
     }
-    if (candidates == 0) return;
+    if (n == 0) return;
     if (!islands) {
-        /* Gather first (sleeping reorders the awake array), then sleep alone. */
-        int32_t *list = w->wake_list;
-        int n = 0;
-        for (int k = 0; k < w->awake_count; k++) {
-            int32_t i = w->awake[k];
-            const nt__body *b = &w->bodies[i];
-            if (b->type == NT_BODY_DYNAMIC && b->sleep_time >= w->def.sleep_time) list[n++] = i;
-        }
         for (int q = 0; q < n; q++) {
             nt__sleep_body(w, list[q]);
             w->bodies[list[q]].sleep_next = list[q];
         }
         return;
     }
-    /* Islands: bodies joined by contacts (through sleeping groups they rest on too). */
+    /* Islands: bodies joined by contacts (through sleeping groups they rest on too).
+     * The bodies not awake that contacts name go to `seen`, in the contacts' order,
+     * for the sleeping groups below (ns counts them all: above body_cap, `seen`
+     * overflowed and the contacts are scanned again instead). */
+    int ns = 0;
     for (int k = 0; k < w->con_count; k++) {
         const nt__contact *c = &w->con[k];
-        if (c->flags & NT__CF_SENSOR) continue; /* (within the step every contact is live) */
         int32_t ia = key_a(c->key), ib = key_b(c->key);
         nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
-        /* A moving kinematic body keeps what it touches awake. */
-        if (a->type == NT_BODY_KINEMATIC && (a->v.x != 0 || a->v.y != 0)) b->sleep_time = 0;
-        if (b->type == NT_BODY_KINEMATIC && (b->v.x != 0 || b->v.y != 0)) a->sleep_time = 0;
+        if (a->awake_slot < 0 && ns++ < w->body_cap) seen[ns - 1] = ia;
+        if (b->awake_slot < 0 && ns++ < w->body_cap) seen[ns - 1] = ib;
+        if (c->flags & NT__CF_SENSOR) continue; /* (within the step every contact is live) */
+        /* A moving kinematic body keeps what it touches awake (an awake dynamic body:
+         * its set's least sleep_time too). */
+        if (a->type == NT_BODY_KINEMATIC && (a->v.x != 0 || a->v.y != 0)) {
+            b->sleep_time = 0;
+            if (b->type == NT_BODY_DYNAMIC && b->awake_slot >= 0) tmin[uf_find(parent, ib)] = 0;
+        }
+        if (b->type == NT_BODY_KINEMATIC && (b->v.x != 0 || b->v.y != 0)) {
+            a->sleep_time = 0;
+            if (a->type == NT_BODY_DYNAMIC && a->awake_slot >= 0) tmin[uf_find(parent, ia)] = 0;
+        }
         if (a->type != NT_BODY_DYNAMIC || b->type != NT_BODY_DYNAMIC) continue;
-        if (a->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ia);
-        if (b->awake_slot < 0) uf_add_sleeping(w, parent, head, tmin, ib);
-        uf_union(parent, ia, ib);
+        if (a->awake_slot < 0) uf_add_sleeping(w, parent, tmin, ia);
+        if (b->awake_slot < 0) uf_add_sleeping(w, parent, tmin, ib);
+        uf_union(parent, tmin, ia, ib);
     }
+    /* The awake sleepers, in the awake array's order (their sleep_time is final). */
+    n = 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
-        const nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        int32_t r = uf_find(parent, i);
-        if (b->sleep_time < tmin[r]) tmin[r] = b->sleep_time;
+        if (parent[i] >= 0 && tmin[uf_find(parent, i)] >= w->def.sleep_time) list[n++] = i;
     }
-    /* Gather the sleepers first: sleeping reorders the awake array. */
-    int32_t *list = w->wake_list;
-    int n = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        if (w->bodies[i].type == NT_BODY_DYNAMIC && tmin[uf_find(parent, i)] >= w->def.sleep_time) list[n++] = i;
-    }
-    /* Sleeping groups reached through contacts join the new group. */
-    for (int k = 0; k < w->con_count; k++) {
-        const nt__contact *c = &w->con[k];
-        for (int s = 0; s < 2; s++) {
-            int32_t i = s ? key_b(c->key) : key_a(c->key);
-            nt__body *b = &w->bodies[i];
-            if (!(b->flags & NT__BF_MARK)) continue;
-            int32_t r = uf_find(parent, i);
-            int sleeps = tmin[r] >= w->def.sleep_time;
-            /* Clear the marks of the whole group, adding it to the sleepers if they sleep. */
-            int32_t j = i;
-            do {
-                w->bodies[j].flags &= (uint8_t)~NT__BF_MARK;
-                if (sleeps) list[n++] = j;
-                j = w->bodies[j].sleep_next;
-            } while (j >= 0 && j != i);
+    /* Sleeping groups reached through contacts join the new group, in the order the
+     * contacts name them (only bodies not awake are marked). */
+    if (ns <= w->body_cap) {
+        for (int q = 0; q < ns; q++) n = take_marked_group(w, parent, tmin, list, n, seen[q]);
+    } else {
+        for (int k = 0; k < w->con_count; k++) {
+            n = take_marked_group(w, parent, tmin, list, n, key_a(w->con[k].key));
+            n = take_marked_group(w, parent, tmin, list, n, key_b(w->con[k].key));
         }
     }
+    /* Each set's circular list, from its first sleeper on (head: `seen` is done). */
+    int32_t *head = seen;
+    for (int q = 0; q < n; q++) head[uf_find(parent, list[q])] = -1;
     for (int q = 0; q < n; q++) {
         int32_t i = list[q];
         int32_t r = uf_find(parent, i);
