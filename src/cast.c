@@ -735,8 +735,7 @@ static void sweep_tiles(caster *c)
     int cx0 = same ? c->rx0 : nt__floor_int(xa - h.x), cx1 = same ? c->rx1 : nt__floor_int(xb + h.x);
     int sx = d.x < 0 ? -1 : 1, sy = d.y < 0 ? -1 : 1;
     int polys = c->sweep.type == NT_SHAPE_AABB && (d.x == 0 || d.y == 0); /* see below */
-    /* (Counted loops: the direction's test is not made again at every cell.) */
-    for (int x = sx > 0 ? cx0 : cx1, nx = cx1 - cx0 + 1; nx > 0; x += sx, nx--) {
+    for (int x = sx > 0 ? cx0 : cx1; sx > 0 ? x <= cx1 : x >= cx0; x += sx) {
         nt_real t0, t1;
         if (!slab(p0.x, d.x, (nt_real)x - h.x, (nt_real)x + 1 + h.x, &t0, &t1)) continue;
         if (t0 > c->best.t) break;
@@ -745,7 +744,7 @@ static void sweep_tiles(caster *c)
         if (t0 > t1) continue;
         nt_real ya = nt__min(p0.y + d.y * t0, p0.y + d.y * t1), yb = nt__max(p0.y + d.y * t0, p0.y + d.y * t1);
         int cy0 = nt__floor_int(ya - h.y), cy1 = nt__floor_int(yb + h.y);
-        for (int y = sy > 0 ? cy0 : cy1, ny = cy1 - cy0 + 1; ny > 0; y += sy, ny--) {
+        for (int y = sy > 0 ? cy0 : cy1; sy > 0 ? y <= cy1 : y >= cy0; y += sy) {
             /* EMPTY cells first: the rows are met in order of time, so a row
              * starting after the best hit is followed only by such rows, and the
              * walk stops at the first one that is not EMPTY as it would have at
