@@ -221,10 +221,6 @@ static inline int nt__map_tile(const nt_map *map, int x, int y)
     return map->cells[(size_t)y * (size_t)map->w + (size_t)x].tile;
 }
 
-/* floor() as an int, clamped to +-1e9 (NaN gives -1e9). Without a libm call:
- * baseline x86-64 has no rounding instruction, and this runs for every cell range.
- * The clamp is two selects (max/min instructions, NaN falls to the first), not a
- * branch: 1e9 is exact in float and double, so clamped values convert exactly. */
 /* Index of the lowest set bit (bits != 0). */
 static inline int nt__ctz64(uint64_t bits)
 {
@@ -237,8 +233,10 @@ static inline int nt__ctz64(uint64_t bits)
 #endif
 }
 
-/* floor(v) as an int, clamped to +-1e9 (NaN: -1e9). Maps lie at non-negative
- * coordinates, where truncation is the floor: that case first. */
+/* floor(v) as an int, clamped to +-1e9 (NaN: -1e9), without a libm call: baseline
+ * x86-64 has no rounding instruction, and this runs for every cell range. Maps lie at
+ * non-negative coordinates, where truncation is the floor: that case first (1e9 is
+ * exact in float and double). */
 static inline int nt__floor_int(nt_real v)
 {
     if (v >= 0 && v < (nt_real)1e9) return (int)v;
