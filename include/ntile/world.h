@@ -109,6 +109,11 @@ typedef enum nt_friction_model {
 } nt_friction_model;
 
 /// Surface properties. Two surfaces combine to max(bounce) and sqrt(friction_a * friction_b).
+/// Two bodies meeting with a combined bounce of 1, neither resting on the ground (in flight,
+/// or without gravity), collide as two free bodies: momentum and kinetic energy are kept
+/// exactly, and the impact passes on along a row of such bodies. Other bounces are
+/// restitution targets of the contact solver, which loses or gains a little energy where
+/// several bodies meet in one step.
 typedef struct nt_material {
     nt_real friction; ///< see nt_friction_model
     nt_real bounce;   ///< restitution in [0, 1]
