@@ -1555,11 +1555,15 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
     nt_vec2 pc = nt__add(p0, nt__scale(d, tau));
     nt_vec2 q = nt_v2(pc.x + (vr.x + (nt_real)0.5 * ga.x * left) * left, pc.y + (vr.y + (nt_real)0.5 * ga.y * left) * left);
     /* The way back must be free, but for the surface it left, within the skin (a
-     * late, slow bounce ends a hair from it: rounding must not decide the path). */
+     * late, slow bounce ends a hair from it: rounding must not decide the path); for a
+     * body thinner than two skins, within half its thickness, as apply_push leaves it
+     * (else its centre could stay on the far side of the surface). */
+    nt_real sk = skin_at(w, q), hmin = nt__min(b->half.x, b->half.y);
+    if (sk * 2 > hmin) sk = (nt_real)0.5 * hmin;
     nt_resolution again;
     if (resolve_body(w, b, pc, q, &again) &&
         (again.contact_count != 1 || nt__dot(again.contacts[0].normal, n) < (nt_real)0.999 ||
-         nt__dot(again.push, again.push) > skin_at(w, q) * skin_at(w, q)))
+         nt__dot(again.push, again.push) > sk * sk))
         return 0;
     b->p = q;
     b->v = nt__add(vr, nt__scale(ga, left));
