@@ -453,16 +453,21 @@ static inline void tile_material(const nt_world *w, const nt__body *b, int mat, 
     *e = nt__max(b->bounce, m->bounce);
 }
 
+/* The depth a body is left at in a surface: the skin, but a body thinner than two
+ * skins would end wholly inside the surface, so half its thickness then. (Never so for
+ * bodies of a normal size.) */
+static inline nt_real thin_skin(const nt__body *b, nt_real skin)
+{
+    nt_real hmin = nt__min(b->half.x, b->half.y);
+    return skin * 2 > hmin ? (nt_real)0.5 * hmin : skin;
+}
+
 /* Move the body out by the resolution's push, leaving it `skin` deep in each
  * surface (in a corner: in both, so that both stay in contact). */
 static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
 {
     nt_vec2 p = res->push;
-    nt_real skin = skin_at(w, b->p);
-    /* A body thinner than two skins would end wholly inside the surface: half its
-     * thickness then. (Never so for bodies of a normal size: their bits are the same.) */
-    nt_real hmin = nt__min(b->half.x, b->half.y);
-    if (skin * 2 > hmin) skin = (nt_real)0.5 * hmin;
+    nt_real skin = thin_skin(b, skin_at(w, b->p));
     if (res->contact_count == 2) {
         /* p' = p - skin * c with c.n1 = c.n2 = 1. Between surfaces facing each other
          * (a pinch: normals more than 120 degrees apart) c is long, and skin * c would
@@ -489,14 +494,8 @@ static void apply_push(const nt_world *w, nt__body *b, const nt_resolution *res)
     b->p.y += p.y - skin * n.y;
 }
 
-/* The depth apply_push leaves a body at in a surface: the skin, or half the body's
- * thickness for a body thinner than two skins. */
-static inline nt_real body_skin(const nt_world *w, const nt__body *b)
-{
-    nt_real skin = skin_at(w, b->p);
-    nt_real hmin = nt__min(b->half.x, b->half.y);
-    return skin * 2 > hmin ? (nt_real)0.5 * hmin : skin;
-}
+/* The depth apply_push leaves a body at in a surface. */
+static inline nt_real body_skin(const nt_world *w, const nt__body *b) { return thin_skin(b, skin_at(w, b->p)); }
 
 /* How far from that depth a body may be and still count as held there (an eighth of
  * it): pushing it back to exactly the skin would move it by a rounding of its position
@@ -959,18 +958,33 @@ static inline int plain_pair_body(const nt_world *w, int32_t i)
     return !(b->flags & NT__BF_SENSOR) && !b->one_way && !(w->char_count && w->cold[i].character >= 0);
 }
 
-/* The correction's queue: a ring of body_cap slots (a body is in it at most once). */
-typedef struct body_queue {
-    int32_t *slot, *inq; /* inq[i]: 1 queued, 0 in a contact and not queued, -1 in none */
+/* A queue of bodies in a ring of `cap` slots: the correction after the move's and the
+ * bounce pass's (each keeps a body in it at most once, so body_cap slots do). */
+typedef struct ring {
+    int32_t *slot;
     int cap, head, tail, count;
-} body_queue;
+} ring;
 
-static inline void enqueue(body_queue *q, int32_t i)
+static inline void ring_push(ring *r, int32_t i)
 {
-    q->inq[i] = 1;
-    q->slot[q->tail] = i;
-    q->tail = (q->tail + 1) % q->cap;
-    q->count++;
+    r->slot[r->tail] = i;
+    r->tail = (r->tail + 1) % r->cap;
+    r->count++;
+}
+
+static inline int32_t ring_pop(ring *r)
+{
+    int32_t i = r->slot[r->head];
+    r->head = (r->head + 1) % r->cap;
+    r->count--;
+    return i;
+}
+
+/* The correction's queue; inq[i]: 1 queued, 0 in a contact and not queued, -1 in none. */
+static inline void enqueue(ring *q, int32_t *inq, int32_t i)
+{
+    inq[i] = 1;
+    ring_push(q, i);
 }
 
 /* The marks the correction after the move reads, off every awake body. */
@@ -991,7 +1005,7 @@ static void correct_after_move(nt_world *w)
     int32_t *visits = w->scratch_a, *inq = w->scratch_a + w->body_cap;
     int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
     /* The queue in the level order's room (the levels themselves are read). */
-    body_queue bq = {w->level_q + 2 * w->body_cap, inq, w->body_cap, 0, 0, 0};
+    ring bq = {w->level_q + 2 * w->body_cap, w->body_cap, 0, 0, 0};
     nt_vec2 g = w->def.gravity;
     nt_real g2 = nt__dot(g, g);
     support sup = {w->level, inq, g, (nt_real)0.5 * nt__sqrt(g2), 1}, *sp = g2 > 0 ? &sup : NULL;
@@ -1014,7 +1028,7 @@ static void correct_after_move(nt_world *w)
             if (!(b->motion & (NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK))) continue;
             int kicked = (b->motion & NT__MF_KICKED) != 0;
             b->motion &= (uint8_t)~(NT__MF_KICKED | NT__MF_MET | NT__MF_RECHECK);
-            if (inq[i] == 0) enqueue(&bq, i);
+            if (inq[i] == 0) enqueue(&bq, inq, i);
             /* One that met a tile has its pairs among the contacts; the others may not. */
             if (!kicked || !nt__body_in_grid(b) || !plain_pair_body(w, i)) continue;
             /* These pairs are no contacts, which the queue below would come back to: they
@@ -1037,7 +1051,7 @@ static void correct_after_move(nt_world *w)
                         int which = push_pair(w, i < j ? i : j, i < j ? j : i, &ms, sp);
                         any |= which & (i < j ? 1 : 2); /* only moving i can undo another pair */
                         int32_t pj = (which & (i < j ? 2 : 1)) ? j : -1;
-                        if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, pj);
+                        if (pj >= 0 && w->bodies[pj].awake_slot >= 0 && inq[pj] == 0) enqueue(&bq, inq, pj);
                     }
                     if (!any || kept == 1) break; /* (one pair pushed apart stays apart) */
                 }
@@ -1048,9 +1062,7 @@ static void correct_after_move(nt_world *w)
     /* Then the contacts of the queued bodies, until none is pushed or each has had
      * its turns. */
     while (bq.count > 0) {
-        int32_t i = bq.slot[bq.head];
-        bq.head = (bq.head + 1) % bq.cap;
-        bq.count--;
+        int32_t i = ring_pop(&bq);
         inq[i] = 0;
         if (visits[i]++ >= iters) continue;
         for (int32_t e = start[i]; e < end[i]; e++) {
@@ -1060,7 +1072,7 @@ static void correct_after_move(nt_world *w)
             for (int s = 0; s < 2; s++) {
                 int32_t j = s ? ib : ia;
                 if (!(which & (1 << s)) || w->bodies[j].awake_slot < 0 || inq[j] != 0 || visits[j] >= iters) continue;
-                enqueue(&bq, j);
+                enqueue(&bq, inq, j);
             }
         }
     }
@@ -1284,9 +1296,10 @@ static inline void bounce_tiles(const nt_world *w, const nt__body *b, nt__svel *
 /* The bodies whose velocity an impact changed wait in a queue (a ring of body_cap
  * slots, each body in it at most once) to have their surfaces and contacts looked at. */
 typedef struct bounce_queue {
-    int32_t *slot, *state; /* state per solver body: 2 x turns taken + 1 while queued */
+    ring r;
+    int32_t *state;        /* state per solver body: 2 x turns taken + 1 while queued */
     const int32_t *index;  /* body -> solver body */
-    int cap, head, tail, count, turns;
+    int turns;
 } bounce_queue;
 
 static inline void bounce_enqueue(const nt_world *w, bounce_queue *q, int32_t i)
@@ -1294,9 +1307,7 @@ static inline void bounce_enqueue(const nt_world *w, bounce_queue *q, int32_t i)
     int32_t s = q->index[i];
     if (w->svel[s].w <= 0 || (q->state[s] & 1) || (q->state[s] >> 1) >= q->turns) return;
     q->state[s] |= 1;
-    q->slot[q->tail] = i;
-    q->tail = (q->tail + 1) % q->cap;
-    q->count++;
+    ring_push(&q->r, i);
 }
 
 static inline void bounce_pair(nt_world *w, bounce_queue *q, nt__contact *c)
@@ -1314,17 +1325,15 @@ static void bounce_pass(nt_world *w, const int32_t *index, int nsv)
 {
     const int32_t *start = w->level_q, *end = w->level_q + w->body_cap;
     /* wake_list and the second half of scratch_a are free during the solve. */
-    bounce_queue q = {w->wake_list, w->scratch_a + w->body_cap, index, w->body_cap, 0, 0, 0,
+    bounce_queue q = {{w->wake_list, w->body_cap, 0, 0, 0}, w->scratch_a + w->body_cap, index,
                       w->def.velocity_iterations};
     memset(q.state, 0, (size_t)nsv * sizeof *q.state);
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         if (c->meff > 0 && (c->flags & NT__CF_IMPACT)) bounce_pair(w, &q, c);
     }
-    while (q.count > 0) {
-        int32_t i = q.slot[q.head], s = index[i];
-        q.head = (q.head + 1) % q.cap;
-        q.count--;
+    while (q.r.count > 0) {
+        int32_t i = ring_pop(&q.r), s = index[i];
         q.state[s] = (q.state[s] & ~1) + 2;
         if (w->bodies[i].ntc) bounce_tiles(w, &w->bodies[i], &w->svel[s]);
         for (int32_t e = start[i]; e < end[i]; e++) {
@@ -1558,8 +1567,7 @@ static int toi_bounce(nt_world *w, nt__body *b, nt_vec2 p0, nt_vec2 d, const nt_
      * late, slow bounce ends a hair from it: rounding must not decide the path); for a
      * body thinner than two skins, within half its thickness, as apply_push leaves it
      * (else its centre could stay on the far side of the surface). */
-    nt_real sk = skin_at(w, q), hmin = nt__min(b->half.x, b->half.y);
-    if (sk * 2 > hmin) sk = (nt_real)0.5 * hmin;
+    nt_real sk = thin_skin(b, skin_at(w, q));
     nt_resolution again;
     if (resolve_body(w, b, pc, q, &again) &&
         (again.contact_count != 1 || nt__dot(again.contacts[0].normal, n) < (nt_real)0.999 ||
@@ -1780,6 +1788,14 @@ static inline void rest_again(nt__body *b)
     }
 }
 
+/* A body's forces in a step without body contacts: gravity, drag, its tile contacts. */
+static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
+{
+    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
+    b->v = nt__solve_velocity_g(mc->g, b, mc->dt);
+    if (b->ntc) tile_solve(w, b);
+}
+
 /* The forces of a body flagged resting, in a step without body contacts: 1 when it
  * rests again (done with this step), else 0 with its forces applied. */
 NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body *b, int held_ok)
@@ -1791,9 +1807,7 @@ NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body
         w->counters.bodies_held++;
         return 1;
     }
-    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
-    b->v = nt__solve_velocity_g(mc->g, b, mc->dt);
-    if (b->ntc) tile_solve(w, b);
+    body_forces(w, mc, b);
     if (!at_rest(mc, b)) return 0;
     rest_again(b);
     if (still && plus_zero(b->v)) b->motion |= NT__MF_HELD;
@@ -1823,9 +1837,7 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
                         continue; /* (in the same grid cell, at the same place) */
                     }
                 } else {
-                    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
-                    b->v = nt__solve_velocity_g(mc->g, b, dt);
-                    if (b->ntc) tile_solve(w, b);
+                    body_forces(w, mc, b);
                 }
             }
             if (at_rest(mc, b)) {
