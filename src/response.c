@@ -367,11 +367,12 @@ static nt_real oneway_depth(const nt_world *w, nt_vec2 p, const nt__body *b)
  * and the cell's near9 mask says whether those cells are all EMPTY. *cell: the centre's
  * cell (the map's and the grid's), set only when the answer is yes (the body then
  * moves there; otherwise it may end elsewhere). */
-static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 p, nt_vec2 h, int32_t *cell)
+static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 mwh, nt_vec2 p, nt_vec2 h, int32_t *cell)
 {
     nt_real gx = p.x * ic, gy = p.y * ic;
-    /* In the map (border cells covered, NaN refused); there truncation is the floor. */
-    if (!(gx >= 0 && gx < (nt_real)m->w && gy >= 0 && gy < (nt_real)m->h)) return 0;
+    /* In the map (mwh: its size in cells; border cells covered, NaN refused); there
+     * truncation is the floor. */
+    if (!(gx >= 0 && gx < mwh.x && gy >= 0 && gy < mwh.y)) return 0;
     int cx = (int)gx, cy = (int)gy;
     int32_t c = (int32_t)cy * m->w + cx;
     unsigned near = m->near9[c];
@@ -388,7 +389,7 @@ static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 p, nt_vec2 h,
 static inline int open_air(const nt_world *w, nt_vec2 p, nt_vec2 h)
 {
     int32_t cell;
-    return open_air_at(w->map, w->inv_cell, p, h, &cell);
+    return open_air_at(w->map, w->inv_cell, nt_v2((nt_real)w->map->w, (nt_real)w->map->h), p, h, &cell);
 }
 
 /* True when every cell of the range is an EMPTY cell of the map. */
@@ -1603,6 +1604,7 @@ static inline int substep_count(const nt_world *w, const nt__body *b, nt_vec2 di
  * for each body. */
 typedef struct move_consts {
     const nt_map *map;
+    nt_vec2 mwh;               /* the map's size in cells */
     nt_vec2 g;                 /* gravity */
     nt_real dt, ic, maxd, vmax2;
     nt_real bend;              /* (1/2) dt^2 */
@@ -1614,6 +1616,7 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
 {
     move_consts mc;
     mc.map = w->map;
+    mc.mwh = nt_v2((nt_real)w->map->w, (nt_real)w->map->h);
     mc.g = w->def.gravity;
     mc.dt = dt;
     mc.ic = w->inv_cell;
@@ -1656,7 +1659,7 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     }
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
     *cell = -1;
-    if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, q, b->half, cell) : open_box(w, q, b->half))) return 0;
+    if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell) : open_box(w, q, b->half))) return 0;
     b->motion = (uint8_t)((b->motion & ~(NT__MF_MET | NT__MF_BOUNCED)) | NT__MF_AIR);
     if (q.x == b->p.x && q.y == b->p.y) {
         b->flags |= NT__BF_RESTING;
