@@ -1098,14 +1098,15 @@ static void hit_event_bodies(nt_world *w, const nt__contact *c, nt_real speed)
  * (lambda, velocity units), solved exactly: with two surfaces the small
  * complementarity problem is enumerated (both, first, second, none), as Box2D's
  * block solver does for two-point manifolds. */
-static void solve_tile_block(nt__stile *t, nt_vec2 *v)
+static inline void solve_tile_single(nt__stile *t, nt_vec2 *v)
 {
-    if (t->ntc == 1) {
-        nt_real l = nt__max(t->lambda[0] - nt__dot(*v, t->n[0]), 0);
-        *v = nt__add(*v, nt__scale(t->n[0], l - t->lambda[0]));
-        t->lambda[0] = l;
-        return;
-    }
+    nt_real l = nt__max(t->lambda[0] - nt__dot(*v, t->n[0]), 0);
+    *v = nt__add(*v, nt__scale(t->n[0], l - t->lambda[0]));
+    t->lambda[0] = l;
+}
+
+static void solve_tile_pair(nt__stile *t, nt_vec2 *v)
+{
     nt_vec2 n1 = t->n[0], n2 = t->n[1];
     /* The velocity without the tiles' impulses. */
     nt_vec2 v0 = nt__sub(*v, nt__add(nt__scale(n1, t->lambda[0]), nt__scale(n2, t->lambda[1])));
@@ -1133,9 +1134,24 @@ static void solve_tile_block(nt__stile *t, nt_vec2 *v)
     *v = nt__add(v0, nt__add(nt__scale(n1, x1), nt__scale(n2, x2)));
 }
 
+/* The solver's tile blocks: those of one contact from the front of w->stile, those of
+ * two from its back (body_cap slots, a block per solver body). Each block changes
+ * only its own body's velocity, so the order they are solved in within a pass does
+ * not change the bits; apart, the single ones run as a tight loop. */
+typedef struct tile_blocks {
+    nt__stile *st;
+    int n1, n2, cap;
+} tile_blocks;
+
+static inline void solve_tile_blocks(const tile_blocks *tb, nt__svel *sv)
+{
+    for (int q = 0; q < tb->n1; q++) solve_tile_single(&tb->st[q], &sv[tb->st[q].s].v);
+    for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &sv[tb->st[q].s].v);
+}
+
 /* The compact solver body of body i, made on first sight (its velocity and the
  * solver's inverse mass copied, its tile contacts too when it moves and has some). */
-static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *nsv, int *nst)
+static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *nsv, tile_blocks *tb)
 {
     if (index[i] >= 0) return index[i];
     const nt__body *b = &w->bodies[i];
@@ -1146,7 +1162,7 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
     sv[s].v = b->v;
     sv[s].w = solver_w(b);
     if (sv[s].w > 0 && b->ntc) {
-        nt__stile *t = &w->stile[(*nst)++];
+        nt__stile *t = b->ntc == 1 ? &tb->st[tb->n1++] : &tb->st[tb->cap - ++tb->n2];
         t->s = s;
         t->ntc = b->ntc;
         t->body = i;
@@ -1422,13 +1438,14 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
      * end. Solver bodies are numbered in order of first appearance in the contacts,
      * tile blocks likewise: the same order, the same arithmetic, as on the bodies. */
     int32_t *index = w->scratch_a; /* body -> solver body; -1 (set above): none yet */
-    int nsv = 0, nst = 0;
+    int nsv = 0;
+    tile_blocks tb = {w->stile, 0, 0, w->body_cap};
     nt__svel *sv = w->svel;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         if (c->meff <= 0) continue;
-        c->sa = solver_body(w, key_a(c->key), index, &nsv, &nst);
-        c->sb = solver_body(w, key_b(c->key), index, &nsv, &nst);
+        c->sa = solver_body(w, key_a(c->key), index, &nsv, &tb);
+        c->sb = solver_body(w, key_b(c->key), index, &nsv, &tb);
         nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
         nt_real wa = a->w, wb = b->w;
         nt_vec2 n = c->n, t = perp(n);
@@ -1439,12 +1456,11 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
         b->v = nt__add(b->v, nt__scale(P, wb));
         if (model == NT_FRICTION_N) c->lt = 0; /* N's friction is not carried over */
     }
-    nt__stile *st = w->stile;
     if (bounces) bounce_pass(w, index, nsv);
     if (any) {
         for (int it = 0; it < w->def.velocity_iterations; it++) {
             /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */
-            for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
+            solve_tile_blocks(&tb, sv);
             for (int k = 0; k < w->con_count; k++) {
                 nt__contact *c = &w->con[k];
                 if (c->meff <= 0) continue;
@@ -1471,7 +1487,7 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
         }
         /* The tiles, once more after the iterations, then the pass up the stack (which
          * may leave a little velocity into a surface: the move answers it). */
-        for (int q = 0; q < nst; q++) solve_tile_block(&st[q], &sv[st[q].s].v);
+        solve_tile_blocks(&tb, sv);
         if (w->leveled) shock_pass(w);
         /* Pairs the iterations left closing by more than half the base margin over the
          * step (a tall column under a heavy impact): the correction after the move
@@ -1511,9 +1527,11 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
             w->bodies[i].v = sv[q].v;
         }
     }
-    for (int q = 0; q < nst; q++) {
-        nt__body *b = &w->bodies[st[q].body];
-        for (int k = 0; k < st[q].ntc; k++) b->tc[k].lambda = st[q].lambda[k];
+    for (int q = 0; q < tb.n1; q++) w->bodies[tb.st[q].body].tc[0].lambda = tb.st[q].lambda[0];
+    for (int q = tb.cap - tb.n2; q < tb.cap; q++) {
+        nt__body *b = &w->bodies[tb.st[q].body];
+        b->tc[0].lambda = tb.st[q].lambda[0];
+        b->tc[1].lambda = tb.st[q].lambda[1];
     }
 }
 

@@ -133,7 +133,7 @@ typedef struct nt__svel {
     nt_real w;                 /* inverse mass as the solver sees it (0: does not move) */
 } nt__svel;
 
-/* A solver body's tile contacts as one-sided constraints (see solve_tile_block). */
+/* A solver body's tile contacts as one-sided constraints (see solve_tile_pair, response.c). */
 typedef struct nt__stile {
     int32_t s, ntc;            /* its nt__svel, its tile contact count (1 or 2) */
     nt_vec2 n[2];
