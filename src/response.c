@@ -1838,8 +1838,9 @@ NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body
 /* The move. `forces`: the velocity phase had no body contact to solve, so each body's
  * gravity, drag and resting tile contacts are answered here, just before its move (the
  * same arithmetic in the same order per body, one pass over the bodies fewer). */
-static void move_bodies(nt_world *w, nt_real dt, int forces)
+static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sleep)
 {
+    nt__sleep_pass sl = *sleep; /* (a local copy: the loop keeps it in registers) */
     const move_consts mcs = move_consts_of(w, dt), *mc = &mcs;
     const nt_real maxd = mc->maxd, vmax2 = mc->vmax2;
     /* The marks are valid from one step without body contacts to the next. */
@@ -1854,6 +1855,7 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
             if (forces) {
                 if (b->flags & NT__BF_RESTING) {
                     if (rest_forces(w, mc, b, held_ok)) {
+                        if (sl.on) nt__sleep_note(w, &sl, b, i);
                         moves++;
                         continue; /* (in the same grid cell, at the same place) */
                     }
@@ -1863,6 +1865,7 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
             }
             if (at_rest(mc, b)) {
                 rest_again(b);
+                if (sl.on) nt__sleep_note(w, &sl, b, i);
                 moves++;
                 continue; /* (in the same grid cell, at the same place) */
             }
@@ -1891,8 +1894,10 @@ static void move_bodies(nt_world *w, nt_real dt, int forces)
         }
         /* Open air told the cell: the grid's list changes only when the cell did. */
         if (b->gcell >= 0 && (cell < 0 || 2 * cell + b->glist != b->gcell)) nt__grid_update(w, i);
+        if (sl.on) nt__sleep_note(w, &sl, b, i);
     }
     w->counters.substep_count = moves;
+    sleep->sleepers = sl.sleepers;
 }
 
 /* ---------------------------------------------------------------- the step */
@@ -1926,13 +1931,14 @@ nt_status nt__step(nt_world *w, nt_real dt)
     int forces = w->con_count == 0;
     if (!forces) solve_velocities(w, dt, ratio);
     if (w->profiling) t[4] = clock_ms();
-    move_bodies(w, dt, forces);
+    nt__sleep_pass sl = nt__sleep_pass_of(w, dt);
+    move_bodies(w, dt, forces, &sl);
     /* A body that met a tile in the move, after the velocity solve, may have turned
      * back into a body that kept coming (the lower one of a falling pair bounces off
      * a floor): the pairs around such bodies are corrected once more. */
     if (w->kicked_count) correct_after_move(w);
     if (w->profiling) t[5] = clock_ms();
-    nt__update_sleep(w, dt);
+    nt__update_sleep(w, &sl);
     if (w->profiling) {
         t[6] = clock_ms();
         t[1] = w->pairs_ms;

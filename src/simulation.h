@@ -168,6 +168,8 @@ struct nt_world {
     int32_t *awake;            /* simulated bodies (awake dynamic + kinematic) */
     int32_t *scratch_a;        /* per-body scratch (union-find, lists) */
     nt_real *scratch_r;        /* 2 per body */
+    int32_t *sleep_parent;     /* per body: the sleep islands' union-find (nt__sleep_note, sleep.c) */
+    nt_real *sleep_tmin;       /* per body: the least rest time of its island while it is a root */
     int body_cap, body_hwm, body_count, awake_count, free_head;
     int32_t first, last;       /* creation order */
     int grid_bodies;           /* bodies in the broad phase */
@@ -299,7 +301,41 @@ void nt__unpark(nt_world *w);                   /* move parked contacts of woken
 void nt__park(nt_world *w, const nt__contact *c); /* set a contact aside (room reserved by the caller) */
 void nt__compact_parked(nt_world *w);           /* drop the parked slots emptied by nt__unpark */
 void nt__sleep_body(nt_world *w, int32_t i);    /* leave the simulation (caller links the group) */
-void nt__update_sleep(nt_world *w, nt_real dt); /* the end of a step: groups that rested long enough sleep */
+/* Sleep bookkeeping done in the move's pass over the awake bodies, while each body's
+ * record is in cache (nt__sleep_note after its move), for nt__update_sleep: how long
+ * each has rested, whether any has rested long enough, and for a step with body
+ * contacts (islands) each body's union-find start. */
+typedef struct nt__sleep_pass {
+    nt_real v2max, dt, limit;
+    int on, islands, sleepers;
+} nt__sleep_pass;
+static inline nt__sleep_pass nt__sleep_pass_of(const nt_world *w, nt_real dt)
+{
+    nt__sleep_pass s;
+    s.v2max = w->def.sleep_speed * w->def.sleep_speed;
+    s.dt = dt;
+    s.limit = w->def.sleep_time;
+    s.on = w->def.enable_sleep;
+    s.islands = w->con_count > 0; /* without body contacts every body is an island of its own */
+    s.sleepers = 0;
+    return s;
+}
+/* (Called only with s->on.) */
+static inline void nt__sleep_note(nt_world *w, nt__sleep_pass *s, nt__body *b, int32_t i)
+{
+    if (b->type != NT_BODY_DYNAMIC) {
+        if (s->islands) w->sleep_parent[i] = -1;
+        return;
+    }
+    if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > s->v2max) b->sleep_time = 0;
+    else b->sleep_time += s->dt;
+    if (b->sleep_time >= s->limit) s->sleepers++;
+    if (s->islands) {
+        w->sleep_parent[i] = i;
+        w->sleep_tmin[i] = b->sleep_time;
+    }
+}
+void nt__update_sleep(nt_world *w, const nt__sleep_pass *s); /* the end of a step: groups that rested long enough sleep */
 
 /* The velocity body b enters this step's contact solve with (dt the step): awake
  * dynamic bodies get gravity and drag (response.c), the others keep theirs. The pair

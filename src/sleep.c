@@ -299,35 +299,22 @@ static int take_marked_group(nt_world *w, int32_t *parent, const nt_real *tmin, 
 /* The body records (156 bytes in float builds, a cache miss each in a big world) are
  * read by one pass over the awake bodies and one over the contacts; the later passes
  * read the scratch arrays (4 bytes a body) and only the sleepers' records. */
-void nt__update_sleep(nt_world *w, nt_real dt)
+void nt__update_sleep(nt_world *w, const nt__sleep_pass *s)
 {
-    if (!w->def.enable_sleep) return;
-    nt_real v2max = w->def.sleep_speed * w->def.sleep_speed;
-    int32_t *parent = w->scratch_a, *seen = w->scratch_a + w->body_cap;
-    nt_real *tmin = w->scratch_r;
+    /* Each awake body's rest time is up to date (nt__sleep_note, in the move). */
+    if (!s->on || s->sleepers == 0) return;
+    int32_t *parent = w->sleep_parent, *seen = w->scratch_a;
+    nt_real *tmin = w->sleep_tmin;
     int32_t *list = w->wake_list;
     int n = 0;
-    /* With no body contacts every body is an island of its own: no union-find. */
-    const int islands = w->con_count > 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        nt__body *b = &w->bodies[i];
-        if (b->type != NT_BODY_DYNAMIC) {
-            if (islands) parent[i] = -1;
-            continue;
+    if (!s->islands) {
+        /* Every body an island of its own: the sleepers, gathered before sleeping
+         * (which reorders the awake array). */
+        for (int k = 0; k < w->awake_count; k++) {
+            int32_t i = w->awake[k];
+            const nt__body *b = &w->bodies[i];
+            if (b->type == NT_BODY_DYNAMIC && b->sleep_time >= s->limit) list[n++] = i;
         }
-        if (!(b->flags & NT__BF_SLEEP_OK) || nt__dot(b->v, b->v) > v2max) b->sleep_time = 0;
-        else b->sleep_time += dt;
-        /* Without islands the sleepers, gathered before sleeping (which reorders the
-         * awake array); with islands only whether there are any. */
-        if (b->sleep_time >= w->def.sleep_time) list[n++] = i;
-        if (islands) {
-            parent[i] = i;
-            tmin[i] = b->sleep_time;
-        }
-    }
-    if (n == 0) return;
-    if (!islands) {
         for (int q = 0; q < n; q++) {
             nt__sleep_body(w, list[q]);
             w->bodies[list[q]].sleep_next = list[q];

@@ -107,7 +107,11 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     int32_t *lv = (int32_t *)nt__alloc(n * sizeof *lv);
     int32_t *lq = (int32_t *)nt__alloc(3 * n * sizeof *lq);
     uint64_t *mm = (uint64_t *)nt__alloc((n / 64 + 1) * sizeof *mm);
-    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq || !mm) {
+    int32_t *up = (int32_t *)nt__alloc(n * sizeof *up);
+    nt_real *ut = (nt_real *)nt__alloc(n * sizeof *ut);
+    if (!b || !c || !aw || !sa || !sr || !wl || !wk || !sv || !st || !lv || !lq || !mm || !up || !ut) {
+        nt__free(up);
+        nt__free(ut);
         nt__free(mm);
         nt__free(lv);
         nt__free(lq);
@@ -140,6 +144,10 @@ static nt_status reserve_bodies(nt_world *w, int cap)
     nt__free(w->level);
     nt__free(w->level_q);
     nt__free(w->move_marks);
+    nt__free(w->sleep_parent);
+    nt__free(w->sleep_tmin);
+    w->sleep_parent = up;
+    w->sleep_tmin = ut;
     memset(mm, 0, (n / 64 + 1) * sizeof *mm);
     w->move_marks = mm;
     w->level = lv;
@@ -220,6 +228,8 @@ void nt_world_destroy(nt_world *w)
     nt__free(w->level);
     nt__free(w->level_q);
     nt__free(w->move_marks);
+    nt__free(w->sleep_parent);
+    nt__free(w->sleep_tmin);
     nt__free(w->adj);
     nt__free(w->heads);
     nt__free(w->occupied);
