@@ -1149,6 +1149,19 @@ static inline void solve_tile_blocks(const tile_blocks *tb, nt__svel *sv)
     for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &sv[tb->st[q].s].v);
 }
 
+/* Gravity, drag and tile contacts of a body in the velocity solve, once (NT__MF_SOLVED,
+ * cleared after its move). A body's forces depend on nothing another body's do, so
+ * answered here, on first sight in the contacts, or in the move for a body in none
+ * (move_bodies), they come out as they would in a pass of their own, without the
+ * pass over every awake body. */
+static inline void solver_forces(nt_world *w, nt__body *b, nt_real dt)
+{
+    if (b->type != NT_BODY_DYNAMIC || b->awake_slot < 0 || (b->motion & NT__MF_SOLVED)) return;
+    b->motion |= NT__MF_SOLVED;
+    b->v = nt__solve_velocity(w, b, dt);
+    if (b->ntc) tile_solve(w, b);
+}
+
 /* The compact solver body of body i, made on first sight (its velocity and the
  * solver's inverse mass copied, its tile contacts too when it moves and has some). */
 static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *nsv, tile_blocks *tb)
@@ -1157,7 +1170,6 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
     const nt__body *b = &w->bodies[i];
     int32_t s = (int32_t)(*nsv)++;
     index[i] = s;
-    w->bodies[i].motion |= NT__MF_SOLVED;
     nt__svel *sv = w->svel;
     sv[s].v = b->v;
     sv[s].w = solver_w(b);
@@ -1365,18 +1377,9 @@ static void bounce_pass(nt_world *w, const int32_t *index, int nsv)
 NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
 {
     nt_friction_model model = w->def.friction_model;
-    /* Gravity and drag. */
-    for (int k = 0; k < w->awake_count; k++) {
-        nt__body *b = &w->bodies[w->awake[k]];
-        if (b->type != NT_BODY_DYNAMIC) continue;
-        b->motion &= (uint8_t)~NT__MF_SOLVED;
-        b->v = nt__solve_velocity(w, b, dt);
-        if (b->ntc) tile_solve(w, b);
-    }
-    if (w->con_count == 0) return;
-
     /* Body contacts. Which pairs collide, and hit speeds, come from the velocities
-     * before any contact impulse (warm start included) is applied. */
+     * before any contact impulse (warm start included) is applied: each body's own
+     * forces first (solver_forces), the bodies in no contact get theirs in the move. */
     int any = 0, bounces = 0;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
@@ -1386,6 +1389,8 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
         nt_real wa = solver_w(a), wb = solver_w(b);
         if (wa + wb <= 0) continue;
         any = 1;
+        solver_forces(w, a, dt);
+        solver_forces(w, b, dt);
         w->scratch_a[key_a(c->key)] = w->scratch_a[key_b(c->key)] = -1;
         c->meff = 1 / (wa + wb);
         c->friction = nt__sqrt(a->friction * b->friction);
@@ -1678,7 +1683,7 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
     *cell = -1;
     if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell) : open_box(w, q, b->half))) return 0;
-    b->motion = (uint8_t)((b->motion & ~(NT__MF_MET | NT__MF_BOUNCED)) | NT__MF_AIR);
+    b->motion = (uint8_t)((b->motion & ~(NT__MF_MET | NT__MF_BOUNCED | NT__MF_SOLVED)) | NT__MF_AIR);
     if (q.x == b->p.x && q.y == b->p.y) {
         b->flags |= NT__BF_RESTING;
         b->rest_p = q;
@@ -1802,7 +1807,7 @@ static inline int plus_zero(nt_vec2 v)
  * solve answers every body's forces. */
 static inline void rest_again(nt__body *b)
 {
-    b->motion &= (uint8_t)~(NT__MF_MET | NT__MF_BOUNCED);
+    b->motion &= (uint8_t)~(NT__MF_MET | NT__MF_BOUNCED | NT__MF_SOLVED);
     for (int c = 0; c < b->ntc; c++) {
         b->tc[c].lambda = 0;
         b->tc[c].solved = 0;
@@ -1812,7 +1817,7 @@ static inline void rest_again(nt__body *b)
 /* A body's forces in a step without body contacts: gravity, drag, its tile contacts. */
 static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
 {
-    b->motion &= (uint8_t)~(NT__MF_SOLVED | NT__MF_HELD);
+    b->motion &= (uint8_t)~NT__MF_HELD;
     b->v = nt__solve_velocity_g(mc->g, b, mc->dt);
     if (b->ntc) tile_solve(w, b);
 }
@@ -1823,7 +1828,6 @@ NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body
 {
     int still = at_rest(mc, b) && plus_zero(b->v);
     if (still && held_ok && (b->motion & NT__MF_HELD)) {
-        b->motion &= (uint8_t)~NT__MF_SOLVED;
         rest_again(b);
         w->counters.bodies_held++;
         return 1;
@@ -1862,6 +1866,10 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
                 } else {
                     body_forces(w, mc, b);
                 }
+            } else if (!(b->motion & NT__MF_SOLVED)) {
+                /* In no contact of the velocity solve: its forces now (solver_forces). */
+                b->v = nt__solve_velocity_g(mc->g, b, dt);
+                if (b->ntc) tile_solve(w, b);
             }
             if (at_rest(mc, b)) {
                 rest_again(b);
@@ -1891,6 +1899,7 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
         } else {
             moves += move_dynamic(w, mc, i, !limited);
             if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
+            b->motion &= (uint8_t)~NT__MF_SOLVED; /* (fly_free and rest_again clear it too) */
         }
         /* Open air told the cell: the grid's list changes only when the cell did. */
         if (b->gcell >= 0 && (cell < 0 || 2 * cell + b->glist != b->gcell)) nt__grid_update(w, i);

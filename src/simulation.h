@@ -22,7 +22,8 @@ enum {
     NT__BF_LARGE = 128     /* above half a cell: grid level >= 1, tiles met over many cells */
 };
 enum { NT__LIST_ACTIVE = 0, NT__LIST_REST = 1 };
-/* nt__body.motion: this step's velocity solve has a contact on the body; the body
+/* nt__body.motion: the velocity solve met the body in its contacts this step and
+ * answered its forces then (set from there to the start of its move); the body
  * began the previous step's move with no tile contact (with none now either, it has
  * been in the air for a whole step: its flight is the parabola); from the velocity
  * solve to the move, a time-of-impact shift waits in scratch_r (response.c); the move
