@@ -480,8 +480,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     } else if (!(sp2 * dt * dt <= maxd * maxd)) {
         velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
     }
-    if (c->rep_valid && repeat_last(w, c, b, velocity, dt, rp)) return NT_OK;
-    const int32_t floor_body_before = c->floor_body; /* to tell a fixed point at the end */
+    if (c->rep_valid) {
+        if (repeat_last(w, c, b, velocity, dt, rp)) return NT_OK;
+        c->rep_valid = 0;
+    }
     mover m;
     m.w = w;
     m.c = c;
@@ -518,7 +520,9 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.on_ground = was_on_floor;
     /* The velocity of the body stood on (a moving platform), if it still lives. */
     nt_vec2 platform = nt_v2(0, 0);
+    int on_body = 0; /* (a fixed point stands on no body) */
     if (was_on_floor && c->floor_body >= 0) {
+        on_body = 1;
         const nt__body *fb = &w->bodies[c->floor_body];
         if ((fb->flags & NT__BF_ALIVE) && fb->generation == c->floor_gen) platform = fb->v;
     }
@@ -607,13 +611,13 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     rp->position = p;
     rp->velocity = v;
     /* A fixed point: it ended where it started, free both times (no way out of the
-     * tiles taken), on a floor or not as before, on no body (floor_gen then goes
-     * unread: no platform), not dropping (it stays so), and no body it could meet is
-     * near. Then the state the next move reads is the one this move read, and the
-     * same input repeats this move while the map, the mask and the bodies near stay. */
-    c->rep_valid = 0;
+     * tiles taken), on a floor or not as before, on no body before or after (floor_body
+     * and floor_gen then go unread: no platform), not dropping (it stays so), and no
+     * body it could meet is near. Then the state the next move reads is the one this
+     * move read, and the same input repeats this move while the map, the mask and the
+     * bodies near stay. */
     if (p.x == p0.x && p.y == p0.y && same_bits2(p, p0) && checked && free_end && c->on_floor == (uint8_t)was_on_floor &&
-        floor_body_before < 0 && c->floor_body < 0 && !m.filter.one_way_off)
+        !on_body && c->floor_body < 0 && !m.filter.one_way_off)
         keep_fixed_point(w, c, b, velocity, dt, looked, rp);
     return NT_OK;
 }
