@@ -76,6 +76,7 @@ nt_status nt_character_create(nt_world *w, nt_body_id id, const nt_character_def
     if (w->cold[i].character >= 0) {
         nt__character *c = &w->chars[w->cold[i].character];
         c->def = *def; /* new settings, same state */
+        c->rep_valid = 0; /* the last move was made with the old ones */
         set_angle(c);
         return NT_OK;
     }
@@ -381,6 +382,80 @@ static int touches_one_way(const nt_world *w, int32_t self, nt_vec2 p, nt_shape 
     return 0;
 }
 
+static int same_bits(nt_real a, nt_real b) { return memcmp(&a, &b, sizeof a) == 0; }
+static int same_bits2(nt_vec2 a, nt_vec2 b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y); }
+
+typedef struct near_probe {
+    int32_t self;
+    uint32_t mask;
+    int found;
+} near_probe;
+
+static bool near_visit(const nt_world *w, int32_t i, void *ctx)
+{
+    near_probe *q = (near_probe *)ctx;
+    const nt__body *o = &w->bodies[i];
+    if (i == q->self || (o->flags & NT__BF_SENSOR) || !(o->category & q->mask)) return true;
+    q->found = 1;
+    return false;
+}
+
+/* Is a body the character's queries could see (not itself, not a sensor, in its
+ * mask) within reach of its box at p? */
+static int bodies_near(const nt_world *w, const nt__character *c, const nt__body *b, nt_vec2 p, nt_real reach)
+{
+    if (!b->mask || !w->heads || w->grid_bodies == 0) return 0; /* the move's queries find none either */
+    nt_vec2 e = nt_v2(b->half.x + reach, b->half.y + reach);
+    near_probe q;
+    q.self = c->body;
+    q.mask = b->mask;
+    q.found = 0;
+    nt__grid_visit(w, nt__sub(p, e), nt__add(p, e), near_visit, &q);
+    return q.found;
+}
+
+/* The last move was a fixed point (see nt__character.rep_valid): the same input
+ * (the velocity after the speed limit: the move reads no other), map, mask and state,
+ * and no body it could meet, give the same move: its result, and what it wrote. */
+NT__NOINLINE static int repeat_last(nt_world *w, nt__character *c, nt__body *b, nt_vec2 velocity, nt_real dt,
+                                    nt_character_result *rp)
+{
+    if (c->rep_epoch != w->map_epoch || !same_bits2(c->rep_velocity, velocity) || !same_bits(c->rep_dt, dt) ||
+        c->rep_mask != b->mask || !same_bits2(b->p, c->rep_r.position) || c->dropping ||
+        bodies_near(w, c, b, b->p, c->rep_reach))
+        return 0;
+    *rp = c->rep_r;
+    b->v = c->rep_bv;
+    b->ntc = 0;
+    b->flags &= (uint8_t)~NT__BF_RESTING;
+    if (b->gcell >= 0) nt__grid_update(w, c->body);
+    w->char_repeats++;
+    return 1;
+}
+
+/* A move that was a fixed point as far as the character's own state goes: kept when
+ * no body it could meet is near either. Its queries for bodies (the casts' start and
+ * swept boxes, the way out of bodies) looked no farther from its box than its slides
+ * (max_slides casts, none longer than the motion) and `looked` beyond them (the step,
+ * the snap), plus rounding (of the casts' boxes to cells and back); the same move made
+ * again looks at the same places while it finds no body there. */
+NT__NOINLINE static void keep_fixed_point(nt_world *w, nt__character *c, const nt__body *b, nt_vec2 velocity,
+                                          nt_real dt, nt_real looked, const nt_character_result *rp)
+{
+    nt_vec2 p = b->p;
+    nt_real reach = (nt__fabs(velocity.x * dt) + nt__fabs(velocity.y * dt)) * (nt_real)c->def.max_slides + looked +
+                    w->cell * (nt_real)0.01 + (nt__fabs(p.x) + nt__fabs(p.y)) * (nt_real)1e-5;
+    if (bodies_near(w, c, b, p, reach)) return;
+    c->rep_valid = 1;
+    c->rep_reach = reach;
+    c->rep_epoch = w->map_epoch;
+    c->rep_mask = b->mask;
+    c->rep_velocity = velocity;
+    c->rep_dt = dt;
+    c->rep_bv = b->v;
+    c->rep_r = *rp;
+}
+
 nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_real dt, nt_character_result *out)
 {
     NT__CHECK_LOCK(w);
@@ -404,6 +479,10 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         velocity = nt__clamp_overflow(velocity, maxd / dt);
     } else if (!(sp2 * dt * dt <= maxd * maxd)) {
         velocity = nt__scale(velocity, maxd / (nt__sqrt(sp2) * dt));
+    }
+    if (c->rep_valid) {
+        if (repeat_last(w, c, b, velocity, dt, rp)) return NT_OK;
+        c->rep_valid = 0;
     }
     mover m;
     m.w = w;
@@ -441,7 +520,9 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     m.on_ground = was_on_floor;
     /* The velocity of the body stood on (a moving platform), if it still lives. */
     nt_vec2 platform = nt_v2(0, 0);
+    int on_body = 0; /* (a fixed point stands on no body) */
     if (was_on_floor && c->floor_body >= 0) {
+        on_body = 1;
         const nt__body *fb = &w->bodies[c->floor_body];
         if ((fb->flags & NT__BF_ALIVE) && fb->generation == c->floor_gen) platform = fb->v;
     }
@@ -449,9 +530,14 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     nt_vec2 v = velocity, wall;
     const nt_vec2 p_move = p;
     p = slide_move(&m, p, nt__scale(velocity, dt), &v, &wall);
+    /* How much farther than the slides (max_slides casts no longer than the motion)
+     * the step and the snap may look, from where the slides ended: for a fixed point's
+     * bodies_near. */
+    nt_real looked = 0;
     /* 2. A step: a wall stopped the move while on a floor. */
     if ((was_on_floor || rp->on_floor) && wall.x != 0) {
         nt_vec2 q;
+        looked = 2 * c->def.step_cells * w->cell + nt__fabs(wall.x) + w->cell * (nt_real)1e-3;
         if (step_up(&m, p, wall, &q)) {
             p = q;
             rp->stepped_up = true;
@@ -470,6 +556,7 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
         nt_real across = nt__fabs(p.x - p_move.x);
         nt_real reach = snap + (c->def.snap_cells > 0 ? across * c->floor_tan : 0);
         nt_vec2 down = nt_v2(0, reach);
+        looked += reach;
         nt_real t = cast(&m, p, down, &h);
         if (t < 1 && classify(&m, h.normal) == SURF_FLOOR &&
             (t * reach <= snap || t * reach * -h.normal.y <= snap * -h.normal.y + across * nt__fabs(h.normal.x))) {
@@ -523,5 +610,14 @@ nt_status nt_character_move(nt_world *w, nt_body_id id, nt_vec2 velocity, nt_rea
     c->floor_gen = rp->floor_body.generation;
     rp->position = p;
     rp->velocity = v;
+    /* A fixed point: it ended where it started, free both times (no way out of the
+     * tiles taken), on a floor or not as before, on no body before or after (floor_body
+     * and floor_gen then go unread: no platform), not dropping (it stays so), and no
+     * body it could meet is near. Then the state the next move reads is the one this
+     * move read, and the same input repeats this move while the map, the mask and the
+     * bodies near stay. */
+    if (p.x == p0.x && p.y == p0.y && same_bits2(p, p0) && checked && free_end && c->on_floor == (uint8_t)was_on_floor &&
+        !on_body && c->floor_body < 0 && !m.filter.one_way_off)
+        keep_fixed_point(w, c, b, velocity, dt, looked, rp);
     return NT_OK;
 }

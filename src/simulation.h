@@ -120,6 +120,17 @@ typedef struct nt__character {
     nt_real floor_tan;         /* tan(def.floor_angle), at most 16: how far the steepest floor falls per unit across */
     uint32_t floor_gen;
     nt_character_def def;
+    /* The last move, kept when it left the character as it found it (a fixed point:
+     * standing still, wedged): the same input in the same world is the same move, so
+     * nt_character_move answers it from here. rep_valid is cleared by a new def. */
+    uint8_t rep_valid;
+    uint32_t rep_epoch;        /* map_epoch of that move */
+    uint32_t rep_mask;         /* the body's mask then */
+    nt_vec2 rep_velocity;      /* its velocity (after the speed limit), bit for bit */
+    nt_real rep_dt;
+    nt_vec2 rep_bv;            /* the body velocity it set */
+    nt_real rep_reach;         /* how far beyond its box its queries for bodies looked */
+    nt_character_result rep_r; /* its result (rep_r.position: where it found and left it) */
 } nt__character;
 
 /* A parked slot's place in the chains of its two bodies (next[0]: body a's, next[1]: b's). */
@@ -199,6 +210,7 @@ struct nt_world {
     int large_count;           /* bodies above half a cell in the grid (all levels >= 1) */
     int one_way_bodies;        /* live bodies with is_one_way (the pair test asks only then) */
     nt__character *chars;      /* characters (character.c) */
+    uint64_t char_repeats;     /* character moves answered from the last move (character.c; for the tests) */
     int char_count, char_cap;
 
     nt__contact *con, *con_new, *con_tmp, *parked;
