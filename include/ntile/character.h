@@ -53,6 +53,10 @@
  * first freed by the shortest way out (nt_map_resolve; one-way cells do not count).
  * A body that stops it and overlaps it (a kinematic wall moved into it, a body placed on
  * it) pushes it out by the shortest way at its next move.
+ * A move that left the character where it was (standing still, wedged), on no body, is
+ * kept: the next move with the same velocity and dt is answered from it, bit for bit the
+ * same, while the tiles, the body's position and mask, the settings and drop-through stay
+ * and no body it could meet comes within reach. Idle characters then cost next to nothing.
  * While it is a character, the world step treats the body as kinematic and does not move
  * it (no gravity, no tiles: the mover did that); nt_body_get_type still says what it was
  * created as, but impulses are refused (NT_ERR_INVALID_ARGUMENT) and a velocity set with
