@@ -922,12 +922,20 @@ static void correct_positions(nt_world *w)
      * contacts around pushed bodies. */
     int32_t *push_it = w->scratch_a, *push_k = w->scratch_a + w->body_cap;
     for (int k = 0; k < w->con_count; k++) push_it[key_a(w->con[k].key)] = push_it[key_b(w->con[k].key)] = -1;
+    /* The contacts of this step's pair search (those unparked since come after them)
+     * know their depth at the bodies' places: the exact test (push_pair's) finds the
+     * same depth or less (of two boxes it takes the lesser axis), so one no deeper than
+     * the thinnest skin is not pushed while neither body has moved. */
+    const int searched = w->con_dirty ? w->con_sorted : w->con_count;
+    const nt_real skin0 = nt__skin_base(w);
     for (int it = 0; it < iters; it++) {
         int pushed = 0;
         for (int k = 0; k < w->con_count; k++) {
             const nt__contact *c = &w->con[k];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
-            if (it > 0) {
+            if (it == 0) {
+                if (k < searched && c->depth <= skin0 && push_it[ia] < 0 && push_it[ib] < 0) continue;
+            } else {
                 /* Untouched since the test at (it - 1, k)? */
                 int fresh_a = push_it[ia] > it - 1 || (push_it[ia] == it - 1 && push_k[ia] >= k);
                 int fresh_b = push_it[ib] > it - 1 || (push_it[ib] == it - 1 && push_k[ib] >= k);

@@ -263,10 +263,12 @@ struct nt_world {
  * but the position it moves the body to rounds by half a unit per axis, so the skin
  * must exceed 0.71 unit for the body to stay in contact). Constant over each binade,
  * so that a body sliding along a floor does not sink as its x grows. */
+/* The skin near the origin: no skin is thinner. */
+static inline nt_real nt__skin_base(const nt_world *w) { return w->cell * (nt_real)2.5e-4; }
 static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 {
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
-    nt_real base = w->cell * (nt_real)2.5e-4;
+    nt_real base = nt__skin_base(w);
     if (mag * NT_REAL_EPS <= base) return base;
     /* The unit in the last place of the binade holding mag: 2^(e - 1) * eps with
      * mag = f * 2^e, f in [0.5, 1), built from mag's exponent field E (e = E - bias
