@@ -916,12 +916,14 @@ static void correct_positions(nt_world *w)
     int iters = w->def.position_iterations;
     if (iters == 0 || w->con_count == 0) return;
     moved_set ms = {w->wake_list, w->scratch_r, 0};
-    /* When each body was last pushed (iteration, contact): a contact whose bodies
-     * have not been pushed since it was last tested gives the same answer again
-     * (it depends on their positions only), so later iterations test only the
+    /* When each body was last pushed, as it * n + k (iteration it, contact k; -1:
+     * not yet; below 2^27: at most 64 iterations of at most 2^21 contacts): a contact
+     * whose bodies have not been pushed since it was last tested gives the same answer
+     * again (it depends on their positions only), so later iterations test only the
      * contacts around pushed bodies. */
-    int32_t *push_it = w->scratch_a, *push_k = w->scratch_a + w->body_cap;
-    for (int k = 0; k < w->con_count; k++) push_it[key_a(w->con[k].key)] = push_it[key_b(w->con[k].key)] = -1;
+    const int n = w->con_count;
+    int32_t *pushed_at = w->scratch_a;
+    for (int k = 0; k < n; k++) pushed_at[key_a(w->con[k].key)] = pushed_at[key_b(w->con[k].key)] = -1;
     /* The contacts of this step's pair search (those unparked since come after them)
      * know their depth at the bodies' places: the exact test (push_pair's) finds the
      * same depth or less (of two boxes it takes the lesser axis), so one no deeper than
@@ -930,22 +932,20 @@ static void correct_positions(nt_world *w)
     const nt_real skin0 = nt__skin_base(w);
     for (int it = 0; it < iters; it++) {
         int pushed = 0;
-        for (int k = 0; k < w->con_count; k++) {
+        for (int k = 0; k < n; k++) {
             const nt__contact *c = &w->con[k];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
             if (it == 0) {
-                if (k < searched && c->depth <= skin0 && push_it[ia] < 0 && push_it[ib] < 0) continue;
+                if (k < searched && c->depth <= skin0 && pushed_at[ia] < 0 && pushed_at[ib] < 0) continue;
             } else {
                 /* Untouched since the test at (it - 1, k)? */
-                int fresh_a = push_it[ia] > it - 1 || (push_it[ia] == it - 1 && push_k[ia] >= k);
-                int fresh_b = push_it[ib] > it - 1 || (push_it[ib] == it - 1 && push_k[ib] >= k);
-                if (!fresh_a && !fresh_b) continue;
+                int32_t last = (it - 1) * n + k;
+                if (pushed_at[ia] < last && pushed_at[ib] < last) continue;
             }
             if (c->flags & NT__CF_SENSOR) continue;
             if (!push_pair(w, ia, ib, &ms, NULL)) continue;
             pushed = 1;
-            push_it[ia] = push_it[ib] = it;
-            push_k[ia] = push_k[ib] = k;
+            pushed_at[ia] = pushed_at[ib] = it * n + k;
         }
         if (!pushed) break;
     }
