@@ -437,31 +437,72 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     return 1;
 }
 
-/* Awake bodies as proxies sorted by cell: a stable radix sort (two passes of half
- * the key's bits each, at most 13: keys < 2^25) of the awake order, so the result
- * is deterministic. Digits no wider than the grid needs keep the scatter's write
- * streams few (256 for a 256 x 256 grid), which matters once the proxies outgrow
- * the cache. Keys number the cells row by row with one empty column after each row,
- * so the neighbours of a cell are key + 1 and key + stride - 1 .. key + stride + 1
- * with no test for the map's edges (a key in the padding column holds no proxy).
+/* Awake bodies as proxies sorted by cell. Keys number the cells row by row with one
+ * empty column after each row, so the neighbours of a cell are key + 1 and key +
+ * stride - 1 .. key + stride + 1 with no test for the map's edges (a key in the
+ * padding column holds no proxy). The order within a cell does not matter: every
+ * pair of neighbouring cells is met once whatever it is, and the contacts found are
+ * sorted by key before use (response.c).
  *
  * A proxy's box is its body's box grown by half the base margin plus its own reach
  * this step (|v| dt per axis, at most a cell), and a little for rounding: two
  * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
  * on the bodies), whose margin is at most a cell and at most the base margin plus
  * (|va| + |vb|) dt per axis. */
-static nt_status build_proxies(nt_world *w, int *count)
+static inline void fill_proxy(nt_world *w, nt__proxy *q, int32_t i, uint32_t cellix, uint32_t key, uint32_t cx,
+                              uint32_t cy)
 {
-    if (w->awake_count > w->prox_cap) {
-        int cap = w->prox_cap, cap2 = w->prox_cap;
-        nt__proxy *a = (nt__proxy *)nt__grow(w->prox, 0, &cap, w->awake_count, sizeof *a);
-        if (!a) return NT_ERR_OUT_OF_MEMORY;
-        w->prox = a;
-        nt__proxy *b = (nt__proxy *)nt__grow(w->prox_tmp, 0, &cap2, w->awake_count, sizeof *b);
-        if (!b) return NT_ERR_OUT_OF_MEMORY;
-        w->prox_tmp = b;
-        w->prox_cap = cap < cap2 ? cap : cap2;
+    const nt_real half_margin = (nt_real)0.5 * w->pair_margin, dt = w->pair_dt, cell = w->cell;
+    const nt__body *b = &w->bodies[i];
+    /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
+    nt_real slack = (nt_real)(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * ((nt_real)16 * NT_REAL_EPS);
+    nt_real ex = b->half.x + slack + nt__min(half_margin + nt__fabs(b->v.x) * dt, cell);
+    nt_real ey = b->half.y + slack + nt__min(half_margin + nt__fabs(b->v.y) * dt, cell);
+    q->lo = nt_v2(b->p.x - ex, b->p.y - ey);
+    q->hi = nt_v2(b->p.x + ex, b->p.y + ey);
+    q->cell = cellix;
+    q->key = key;
+    /* The searches here meet the bodies of the neighbouring cells only. A pair of
+     * cells two or more apart along an axis can still be a contact when their
+     * proxies overlap: along x, (f_i + ex_i) + ((1 - f_j) + ex_j) > 3 cells (f: a
+     * centre's place in its cell, 0..1), so one of the two reaches beyond 1.5
+     * cells from its cell's far side. Such a body looks for what it overlaps
+     * after the move instead (correct_after_move, response.c). */
+    nt_real fx = b->p.x * w->inv_cell - (nt_real)cx, fy = b->p.y * w->inv_cell - (nt_real)cy;
+    nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
+    if (rx > (nt_real)1.5 || ry > (nt_real)1.5) {
+        nt__mark_move(w, &w->bodies[i], NT__MF_KICKED);
+        w->kicked_count++;
     }
+    q->body = i;
+}
+
+/* The grid's ACTIVE lists already hold the awake bodies by cell: walking the
+ * non-empty ones (the bitmap, a word of 32 cells at a time) gives the proxies in key
+ * order with no sort. */
+static int proxies_from_lists(nt_world *w, nt__proxy *out)
+{
+    const uint64_t ACTIVE = 0x5555555555555555ull;
+    const uint32_t gw = (uint32_t)w->grid_w;
+    const size_t words = (2 * (size_t)w->grid_w * (size_t)w->grid_h + 63) / 64;
+    int n = 0;
+    for (size_t wd = 0; wd < words; wd++) {
+        for (uint64_t bits = w->occupied[wd] & ACTIVE; bits; bits &= bits - 1) {
+            uint32_t head = (uint32_t)wd * 64 + (uint32_t)nt__ctz64(bits), cellix = head >> 1;
+            uint32_t cy = cellix / gw, cx = cellix - cy * gw, key = cellix + cy;
+            for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext) fill_proxy(w, &out[n++], j, cellix, key, cx, cy);
+        }
+    }
+    return n;
+}
+
+/* Few awake bodies on a large map: a stable radix sort of the awake order (two
+ * passes of half the key's bits each, at most 13: keys < 2^25) instead of a walk
+ * over every cell. Digits no wider than the grid needs keep the scatter's write
+ * streams few (256 for a 256 x 256 grid), which matters once the proxies outgrow
+ * the cache. */
+static nt_status proxies_sorted(nt_world *w, int *count)
+{
     if (!w->radix) {
         w->radix = (uint32_t *)nt__alloc(2 * 8192 * sizeof *w->radix);
         if (!w->radix) return NT_ERR_OUT_OF_MEMORY;
@@ -475,7 +516,6 @@ static nt_status build_proxies(nt_world *w, int *count)
     /* Only the digits in use: a small world's step does not pay for clearing 64 KiB. */
     memset(c0, 0, digits * sizeof *c0);
     memset(c1, 0, digits * sizeof *c1);
-    const nt_real half_margin = (nt_real)0.5 * w->pair_margin, dt = w->pair_dt, cell = w->cell;
     nt__proxy *src = w->prox_tmp;
     int n = 0;
     for (int k = 0; k < w->awake_count; k++) {
@@ -483,28 +523,8 @@ static nt_status build_proxies(nt_world *w, int *count)
         const nt__body *b = &w->bodies[i];
         if (b->gcell < 0 || (b->flags & NT__BF_LARGE)) continue; /* coarser levels: large_pairs */
         nt__proxy *q = &src[n++];
-        /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
-        nt_real slack = (nt_real)(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * ((nt_real)16 * NT_REAL_EPS);
-        nt_real ex = b->half.x + slack + nt__min(half_margin + nt__fabs(b->v.x) * dt, cell);
-        nt_real ey = b->half.y + slack + nt__min(half_margin + nt__fabs(b->v.y) * dt, cell);
-        q->lo = nt_v2(b->p.x - ex, b->p.y - ey);
-        q->hi = nt_v2(b->p.x + ex, b->p.y + ey);
-        uint32_t cellix = (uint32_t)b->gcell >> 1;
-        q->cell = cellix;
-        q->key = cellix + cellix / gw; /* y * stride + x */
-        /* The searches here meet the bodies of the neighbouring cells only. A pair of
-         * cells two or more apart along an axis can still be a contact when their
-         * proxies overlap: along x, (f_i + ex_i) + ((1 - f_j) + ex_j) > 3 cells (f: a
-         * centre's place in its cell, 0..1), so one of the two reaches beyond 1.5
-         * cells from its cell's far side. Such a body looks for what it overlaps
-         * after the move instead (correct_after_move, response.c). */
-        nt_real fx = b->p.x * w->inv_cell - (nt_real)(cellix % gw), fy = b->p.y * w->inv_cell - (nt_real)(cellix / gw);
-        nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
-        if (rx > (nt_real)1.5 || ry > (nt_real)1.5) {
-            nt__mark_move(w, &w->bodies[i], NT__MF_KICKED);
-            w->kicked_count++;
-        }
-        q->body = i;
+        uint32_t cellix = (uint32_t)b->gcell >> 1, cy = cellix / gw;
+        fill_proxy(w, q, i, cellix, cellix + cy, cellix - cy * gw, cy);
         c0[q->key & lo_mask]++;
         c1[q->key >> lo]++;
     }
@@ -520,6 +540,26 @@ static nt_status build_proxies(nt_world *w, int *count)
     for (int k = 0; k < n; k++) mid[c0[src[k].key & lo_mask]++] = src[k];
     for (int k = 0; k < n; k++) src[c1[mid[k].key >> lo]++] = mid[k];
     *count = n;
+    return NT_OK;
+}
+
+/* The proxies, sorted by key, into w->prox_tmp. */
+static nt_status build_proxies(nt_world *w, int *count)
+{
+    if (w->awake_count > w->prox_cap) {
+        int cap = w->prox_cap, cap2 = w->prox_cap;
+        nt__proxy *a = (nt__proxy *)nt__grow(w->prox, 0, &cap, w->awake_count, sizeof *a);
+        if (!a) return NT_ERR_OUT_OF_MEMORY;
+        w->prox = a;
+        nt__proxy *b = (nt__proxy *)nt__grow(w->prox_tmp, 0, &cap2, w->awake_count, sizeof *b);
+        if (!b) return NT_ERR_OUT_OF_MEMORY;
+        w->prox_tmp = b;
+        w->prox_cap = cap < cap2 ? cap : cap2;
+    }
+    /* A word of the bitmap costs a few instructions, a sorted proxy some fifty. */
+    const size_t words = (2 * (size_t)w->grid_w * (size_t)w->grid_h + 63) / 64;
+    if (words > 8 * (size_t)w->awake_count) return proxies_sorted(w, count);
+    *count = proxies_from_lists(w, w->prox_tmp);
     return NT_OK;
 }
 
