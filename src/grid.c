@@ -449,32 +449,50 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
  * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
  * on the bodies), whose margin is at most a cell and at most the base margin plus
  * (|va| + |vb|) dt per axis. */
-static inline void fill_proxy(nt_world *w, nt__proxy *q, int32_t i, uint32_t cellix, uint32_t key, uint32_t cx,
-                              uint32_t cy)
+/* What every proxy of a step needs of the world, read once (stores to the proxies
+ * could alias the world's fields and make the compiler read them again). */
+typedef struct proxy_step {
+    nt_real half_margin, dt, cell, inv_cell, slack;
+} proxy_step;
+
+static proxy_step proxy_step_of(const nt_world *w)
 {
-    const nt_real half_margin = (nt_real)0.5 * w->pair_margin, dt = w->pair_dt, cell = w->cell;
-    const nt__body *b = &w->bodies[i];
+    proxy_step c;
+    c.half_margin = (nt_real)0.5 * w->pair_margin;
+    c.dt = w->pair_dt;
+    c.cell = w->cell;
+    c.inv_cell = w->inv_cell;
+    c.slack = (nt_real)(1e-3) * w->cell;
+    return c;
+}
+
+static inline void fill_proxy(nt_world *w, const proxy_step *c, nt__proxy *q, int32_t i, uint32_t cellix, uint32_t key,
+                              uint32_t cx, uint32_t cy)
+{
+    const nt_real half_margin = c->half_margin, dt = c->dt, cell = c->cell, inv_cell = c->inv_cell;
+    nt__body *b = &w->bodies[i];
+    const nt_vec2 p = b->p, h = b->half, v = b->v;
     /* Rounding allowance: a thousandth of a cell, plus a few ulps of the position. */
-    nt_real slack = (nt_real)(1e-3) * cell + (nt__fabs(b->p.x) + nt__fabs(b->p.y)) * ((nt_real)16 * NT_REAL_EPS);
-    nt_real ex = b->half.x + slack + nt__min(half_margin + nt__fabs(b->v.x) * dt, cell);
-    nt_real ey = b->half.y + slack + nt__min(half_margin + nt__fabs(b->v.y) * dt, cell);
-    q->lo = nt_v2(b->p.x - ex, b->p.y - ey);
-    q->hi = nt_v2(b->p.x + ex, b->p.y + ey);
+    nt_real slack = c->slack + (nt__fabs(p.x) + nt__fabs(p.y)) * ((nt_real)16 * NT_REAL_EPS);
+    nt_real ex = h.x + slack + nt__min(half_margin + nt__fabs(v.x) * dt, cell);
+    nt_real ey = h.y + slack + nt__min(half_margin + nt__fabs(v.y) * dt, cell);
+    q->lo = nt_v2(p.x - ex, p.y - ey);
+    q->hi = nt_v2(p.x + ex, p.y + ey);
     q->cell = cellix;
     q->key = key;
+    q->body = i;
     /* The searches here meet the bodies of the neighbouring cells only. A pair of
      * cells two or more apart along an axis can still be a contact when their
      * proxies overlap: along x, (f_i + ex_i) + ((1 - f_j) + ex_j) > 3 cells (f: a
      * centre's place in its cell, 0..1), so one of the two reaches beyond 1.5
      * cells from its cell's far side. Such a body looks for what it overlaps
      * after the move instead (correct_after_move, response.c). */
-    nt_real fx = b->p.x * w->inv_cell - (nt_real)cx, fy = b->p.y * w->inv_cell - (nt_real)cy;
-    nt_real rx = nt__max(fx, 1 - fx) + ex * w->inv_cell, ry = nt__max(fy, 1 - fy) + ey * w->inv_cell;
+    nt_real fx = p.x * inv_cell - (nt_real)cx, fy = p.y * inv_cell - (nt_real)cy;
+    nt_real rx = nt__max(fx, 1 - fx) + ex * inv_cell, ry = nt__max(fy, 1 - fy) + ey * inv_cell;
     if (rx > (nt_real)1.5 || ry > (nt_real)1.5) {
-        nt__mark_move(w, &w->bodies[i], NT__MF_KICKED);
+        nt__mark_move(w, b, NT__MF_KICKED);
         w->kicked_count++;
     }
-    q->body = i;
 }
 
 /* The grid's ACTIVE lists already hold the awake bodies by cell: walking the
@@ -485,12 +503,13 @@ static int proxies_from_lists(nt_world *w, nt__proxy *out)
     const uint64_t ACTIVE = 0x5555555555555555ull;
     const uint32_t gw = (uint32_t)w->grid_w;
     const size_t words = (2 * (size_t)w->grid_w * (size_t)w->grid_h + 63) / 64;
+    const proxy_step c = proxy_step_of(w);
     int n = 0;
     for (size_t wd = 0; wd < words; wd++) {
         for (uint64_t bits = w->occupied[wd] & ACTIVE; bits; bits &= bits - 1) {
             uint32_t head = (uint32_t)wd * 64 + (uint32_t)nt__ctz64(bits), cellix = head >> 1;
             uint32_t cy = cellix / gw, cx = cellix - cy * gw, key = cellix + cy;
-            for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext) fill_proxy(w, &out[n++], j, cellix, key, cx, cy);
+            for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext) fill_proxy(w, &c, &out[n++], j, cellix, key, cx, cy);
         }
     }
     return n;
@@ -517,6 +536,7 @@ static nt_status proxies_sorted(nt_world *w, int *count)
     memset(c0, 0, digits * sizeof *c0);
     memset(c1, 0, digits * sizeof *c1);
     nt__proxy *src = w->prox_tmp;
+    const proxy_step c = proxy_step_of(w);
     int n = 0;
     for (int k = 0; k < w->awake_count; k++) {
         int32_t i = w->awake[k];
@@ -524,7 +544,7 @@ static nt_status proxies_sorted(nt_world *w, int *count)
         if (b->gcell < 0 || (b->flags & NT__BF_LARGE)) continue; /* coarser levels: large_pairs */
         nt__proxy *q = &src[n++];
         uint32_t cellix = (uint32_t)b->gcell >> 1, cy = cellix / gw;
-        fill_proxy(w, q, i, cellix, cellix + cy, cellix - cy * gw, cy);
+        fill_proxy(w, &c, q, i, cellix, cellix + cy, cellix - cy * gw, cy);
         c0[q->key & lo_mask]++;
         c1[q->key >> lo]++;
     }
