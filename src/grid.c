@@ -566,20 +566,27 @@ static nt_status proxies_sorted(nt_world *w, int *count)
 /* The proxies, sorted by key, into w->prox_tmp. */
 static nt_status build_proxies(nt_world *w, int *count)
 {
-    if (w->awake_count > w->prox_cap) {
+    /* One more for the sentinel after the last proxy. */
+    if (w->awake_count + 1 > w->prox_cap) {
         int cap = w->prox_cap, cap2 = w->prox_cap;
-        nt__proxy *a = (nt__proxy *)nt__grow(w->prox, 0, &cap, w->awake_count, sizeof *a);
+        nt__proxy *a = (nt__proxy *)nt__grow(w->prox, 0, &cap, w->awake_count + 1, sizeof *a);
         if (!a) return NT_ERR_OUT_OF_MEMORY;
         w->prox = a;
-        nt__proxy *b = (nt__proxy *)nt__grow(w->prox_tmp, 0, &cap2, w->awake_count, sizeof *b);
+        nt__proxy *b = (nt__proxy *)nt__grow(w->prox_tmp, 0, &cap2, w->awake_count + 1, sizeof *b);
         if (!b) return NT_ERR_OUT_OF_MEMORY;
         w->prox_tmp = b;
         w->prox_cap = cap < cap2 ? cap : cap2;
     }
     /* A word of the bitmap costs a few instructions, a sorted proxy some fifty. */
     const size_t words = (2 * (size_t)w->grid_w * (size_t)w->grid_h + 63) / 64;
-    if (words > 8 * (size_t)w->awake_count) return proxies_sorted(w, count);
-    *count = proxies_from_lists(w, w->prox_tmp);
+    if (words > 8 * (size_t)w->awake_count) {
+        nt_status s = proxies_sorted(w, count);
+        if (s != NT_OK) return s;
+    } else {
+        *count = proxies_from_lists(w, w->prox_tmp);
+    }
+    /* A key above every cell's ends the searches' scans. */
+    w->prox_tmp[*count].key = UINT32_MAX;
     return NT_OK;
 }
 
@@ -741,16 +748,16 @@ static nt_status find_pairs(nt_world *w, nt_real dt)
     const uint32_t gw = (uint32_t)w->grid_w, gh = (uint32_t)w->grid_h, stride = gw + 1u;
     /* Awake pairs: each proxy meets the later ones of its own cell and of the cell to
      * its right (the next keys), and those of the three cells below it, found by a
-     * cursor that only moves forward (keys grow, so does the row-below range). */
+     * cursor that only moves forward (keys grow, so does the row-below range). The
+     * sentinel's key ends every scan. */
     int below = 0;
     for (int i = 0; i < n; i++) {
         uint32_t key = P[i].key;
-        int j = i + 1;
-        for (; j < n && P[j].key <= key + 1u; j++, tests++)
+        for (int j = i + 1; P[j].key <= key + 1u; j++, tests++)
             if (!test_proxies(w, &P[i], &P[j])) return NT_ERR_OUT_OF_MEMORY;
         uint32_t lo = key + stride - 1u, hi = key + stride + 1u;
-        while (below < n && P[below].key < lo) below++;
-        for (int k = below; k < n && P[k].key <= hi; k++, tests++)
+        while (P[below].key < lo) below++;
+        for (int k = below; P[k].key <= hi; k++, tests++)
             if (!test_proxies(w, &P[i], &P[k])) return NT_ERR_OUT_OF_MEMORY;
     }
     /* Awake against resting (static and sleeping) bodies: the REST lists of the 9 cells. */
