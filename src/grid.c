@@ -225,6 +225,13 @@ NT__NOINLINE static void update_large(nt_world *w, int32_t i)
     link_large(w, i, head);
 }
 
+/* Out of line: the common case (the same list) then needs no registers saved. */
+NT__NOINLINE static void relink(nt_world *w, int32_t i, int32_t head)
+{
+    unlink(w, i);
+    link(w, i, head);
+}
+
 void nt__grid_update(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
@@ -233,9 +240,7 @@ void nt__grid_update(nt_world *w, int32_t i)
         return;
     }
     int32_t head = 2 * cell_of(w, b->p) + b->glist;
-    if (head == b->gcell) return;
-    unlink(w, i);
-    link(w, i, head);
+    if (head != b->gcell) relink(w, i, head);
 }
 
 /* Two boxes overlap on both axes; the least overlap is not always the axis they met
@@ -807,12 +812,13 @@ int nt__grid_overlapping(const nt_world *w, int32_t i, int32_t *out, int cap)
         view_range(&v, nt_v2(b->p.x - b->half.x - m, b->p.y - b->half.y - m),
                    nt_v2(b->p.x + b->half.x + m, b->p.y + b->half.y + m), r);
         for (int y = r[1]; y <= r[3]; y++)
-            for (int x = r[0]; x <= r[2]; x++)
-                for (int list = 0; list < 2; list++) {
-                    int32_t head = 2 * (y * v.w + x) + list;
-                    if (lv == 0 && !occupied(w, head)) continue;
-                    n = take_overlapping(w, v.heads[head], i, b, out, n, cap);
-                }
+            for (int x = r[0]; x <= r[2]; x++) {
+                int32_t head = 2 * (y * v.w + x);
+                /* Level 0: both lists' bits at once (head is even: the same word). */
+                if (lv == 0 && !((w->occupied[(uint32_t)head >> 6] >> (head & 63)) & 3u)) continue;
+                n = take_overlapping(w, v.heads[head], i, b, out, n, cap);
+                n = take_overlapping(w, v.heads[head + 1], i, b, out, n, cap);
+            }
     }
     return n;
 }
