@@ -270,7 +270,8 @@ void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
     }
 }
 
-bool nt__pair_filter(const nt__body *a, const nt__body *b)
+/* Inline in the pair search, which calls it for every pair whose boxes are near. */
+static inline bool pair_filter(const nt__body *a, const nt__body *b)
 {
     if (!(a->category & b->mask) || !(b->category & a->mask)) return false;
     int sa = a->flags & NT__BF_SENSOR, sb = b->flags & NT__BF_SENSOR;
@@ -278,6 +279,8 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b)
     if (sa || sb) return true;
     return a->type == NT_BODY_DYNAMIC || b->type == NT_BODY_DYNAMIC;
 }
+
+bool nt__pair_filter(const nt__body *a, const nt__body *b) { return pair_filter(a, b); }
 
 /* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
@@ -398,7 +401,7 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     nt_real dx = bj->p.x - bi->p.x, dy = bj->p.y - bi->p.y;
     nt_real margin = w->pair_margin + w->pair_dt * (axis_reach(dx, bi->v.x, bj->v.x) + axis_reach(dy, bi->v.y, bj->v.y));
     if (margin > w->cell) margin = w->cell;
-    if (!nt__pair_filter(bi, bj)) return 1;
+    if (!pair_filter(bi, bj)) return 1;
     if (w->char_count && stands_on(w, i, j)) return 1;
     int32_t a = i < j ? i : j, b = i < j ? j : i;
     const nt__body *ba = &w->bodies[a], *bb = &w->bodies[b];
