@@ -445,18 +445,6 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
     return 1;
 }
 
-/* Awake bodies as proxies sorted by cell. Keys number the cells row by row with one
- * empty column after each row, so the neighbours of a cell are key + 1 and key +
- * stride - 1 .. key + stride + 1 with no test for the map's edges (a key in the
- * padding column holds no proxy). The order within a cell does not matter: every
- * pair of neighbouring cells is met once whatever it is, and the contacts found are
- * sorted by key before use (response.c).
- *
- * A proxy's box is its body's box grown by half the base margin plus its own reach
- * this step (|v| dt per axis, at most a cell), and a little for rounding: two
- * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
- * on the bodies), whose margin is at most a cell and at most the base margin plus
- * (|va| + |vb|) dt per axis. */
 /* What every proxy of a step needs of the world, read once (stores to the proxies
  * could alias the world's fields and make the compiler read them again). */
 typedef struct proxy_step {
@@ -474,6 +462,18 @@ static proxy_step proxy_step_of(const nt_world *w)
     return c;
 }
 
+/* Awake bodies as proxies sorted by cell. Keys number the cells row by row with one
+ * empty column after each row, so the neighbours of a cell are key + 1 and key +
+ * stride - 1 .. key + stride + 1 with no test for the map's edges (a key in the
+ * padding column holds no proxy). The order within a cell does not matter: every
+ * pair of neighbouring cells is met once whatever it is, and the contacts found are
+ * sorted by key before use (response.c).
+ *
+ * A proxy's box is its body's box grown by half the base margin plus its own reach
+ * this step (|v| dt per axis, at most a cell), and a little for rounding: two
+ * proxies whose boxes are apart cannot pass boxes_near (the exact test, made again
+ * on the bodies), whose margin is at most a cell and at most the base margin plus
+ * (|va| + |vb|) dt per axis. */
 static inline void fill_proxy(nt_world *w, const proxy_step *c, nt__proxy *q, int32_t i, uint32_t cellix, uint32_t key,
                               uint32_t cx, uint32_t cy)
 {
