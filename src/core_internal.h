@@ -65,11 +65,14 @@ static inline bool nt__reserve(void *arr_p, int used, int *cap, int need, size_t
     return true;
 }
 
-/* Keeps a rarely taken path out of its caller (a smaller hot loop). */
+/* Keeps a rarely taken path out of its caller (a smaller hot loop). NT__PREFETCH:
+ * asks for the cache line at p ahead of its use (a hint: no effect on results). */
 #if defined(__GNUC__)
 #define NT__NOINLINE __attribute__((noinline))
+#define NT__PREFETCH(p) __builtin_prefetch(p)
 #else
 #define NT__NOINLINE
+#define NT__PREFETCH(p) ((void)(p))
 #endif
 
 #if NT_REAL_IS_DOUBLE
