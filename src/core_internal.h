@@ -97,6 +97,19 @@ static inline nt_real nt__dot(nt_vec2 a, nt_vec2 b) { return a.x * b.x + a.y * b
 static inline nt_real nt__len(nt_vec2 a) { return nt__sqrt(a.x * a.x + a.y * a.y); }
 static inline nt_real nt__min(nt_real a, nt_real b) { return a < b ? a : b; }
 static inline nt_real nt__max(nt_real a, nt_real b) { return a > b ? a : b; }
+/* nt__max as the SSE max instruction, which is exactly that select (the second
+ * operand when they are equal or either is NaN): for comparisons that go either way
+ * at random (a contact's impulse clamped at 0), where a compiler may still branch. */
+#if defined(__SSE2__) || (defined(__SSE__) && !NT_REAL_IS_DOUBLE)
+#include <emmintrin.h>
+#if NT_REAL_IS_DOUBLE
+static inline nt_real nt__max_sel(nt_real a, nt_real b) { return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b))); }
+#else
+static inline nt_real nt__max_sel(nt_real a, nt_real b) { return _mm_cvtss_f32(_mm_max_ss(_mm_set_ss(a), _mm_set_ss(b))); }
+#endif
+#else
+static inline nt_real nt__max_sel(nt_real a, nt_real b) { return a > b ? a : b; }
+#endif
 /* lo <= hi. Two selects, each a single comparison, so compilers emit max/min
  * instructions instead of branches. */
 static inline nt_real nt__clamp(nt_real v, nt_real lo, nt_real hi)

@@ -342,7 +342,7 @@ static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t 
 static inline nt_real axis_reach(nt_real d, nt_real va, nt_real vb)
 {
     nt_real s = (nt_real)((d > 0) - (d < 0));
-    return nt__max(s * va, 0) + nt__max(-s * vb, 0);
+    return nt__max_sel(s * va, 0) + nt__max_sel(-s * vb, 0);
 }
 
 /* How close a pair must be to become a contact along an axis: the base margin plus the

@@ -1108,7 +1108,7 @@ static void hit_event_bodies(nt_world *w, const nt__contact *c, nt_real speed)
  * block solver does for two-point manifolds. */
 static inline void solve_tile_single(nt__stile *t, nt_vec2 *v)
 {
-    nt_real l = nt__max(t->lambda[0] - nt__dot(*v, t->n[0]), 0);
+    nt_real l = nt__max_sel(t->lambda[0] - nt__dot(*v, t->n[0]), 0);
     *v = nt__add(*v, nt__scale(t->n[0], l - t->lambda[0]));
     t->lambda[0] = l;
 }
@@ -1279,8 +1279,8 @@ static void shock_pass(nt_world *w)
 static inline int kicked_out(const nt_world *w, nt_vec2 v0, nt_vec2 v1, nt_real dt)
 {
     nt_real m = w->pair_margin * (nt_real)0.5;
-    return (nt__max(v1.x, 0) - nt__max(v0.x, 0)) * dt > m || (nt__max(-v1.x, 0) - nt__max(-v0.x, 0)) * dt > m ||
-           (nt__max(v1.y, 0) - nt__max(v0.y, 0)) * dt > m || (nt__max(-v1.y, 0) - nt__max(-v0.y, 0)) * dt > m;
+    return (nt__max_sel(v1.x, 0) - nt__max_sel(v0.x, 0)) * dt > m || (nt__max_sel(-v1.x, 0) - nt__max_sel(-v0.x, 0)) * dt > m ||
+           (nt__max_sel(v1.y, 0) - nt__max_sel(v0.y, 0)) * dt > m || (nt__max_sel(-v1.y, 0) - nt__max_sel(-v0.y, 0)) * dt > m;
 }
 
 /* Perfectly elastic collisions (bounce 1) between bodies not standing on the ground
@@ -1481,7 +1481,7 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
                 nt_real wa = a->w, wb = b->w;
                 nt_vec2 n = c->n;
                 nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
-                nt_real ln = nt__max(c->ln - (vn - c->bias) * c->meff, 0);
+                nt_real ln = nt__max_sel(c->ln - (vn - c->bias) * c->meff, 0);
                 nt_real dl = ln - c->ln;
                 c->ln = ln;
                 a->v = nt__sub(a->v, nt__scale(n, dl * wa));
