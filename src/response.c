@@ -1811,8 +1811,9 @@ static inline int plus_zero(nt_vec2 v)
  * at rest and nothing its answer depends on has changed (the step, the world's gravity
  * and materials: held_ok; the body's own gravity scale, drag, velocity and material:
  * their setters clear the mark, and so does sleep), its forces and contacts are not
- * answered again. Only in steps without body contacts (`forces`): with them, the
- * solve answers every body's forces. */
+ * answered again. Only in steps without body contacts (`forces`): with them, each
+ * body's forces are answered anew (by the solve for the bodies in contacts, by the move
+ * for the others). */
 static inline void rest_again(nt__body *b)
 {
     b->motion &= (uint8_t)~(NT__MF_MET | NT__MF_BOUNCED | NT__MF_SOLVED);
@@ -1847,9 +1848,11 @@ NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body
     return 1;
 }
 
-/* The move. `forces`: the velocity phase had no body contact to solve, so each body's
- * gravity, drag and resting tile contacts are answered here, just before its move (the
- * same arithmetic in the same order per body, one pass over the bodies fewer). */
+/* The move. Each body's gravity, drag and resting tile contacts are answered here,
+ * just before its move, unless the velocity solve answered them (a body in its
+ * contacts: NT__MF_SOLVED); `forces`: there was no body contact to solve, so this is
+ * every body, and resting ones may be answered from the step before (rest_forces).
+ * Each body's rest time is noted after its move (nt__sleep_note). */
 static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sleep)
 {
     nt__sleep_pass sl = *sleep; /* (a local copy: the loop keeps it in registers) */

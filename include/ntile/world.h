@@ -274,9 +274,9 @@ typedef struct nt_world_profile {
     double pairs;    ///< broad phase: body pairs closer than the contact margin
     double contacts; ///< matching them with the last step's: begin/end events, wake-ups
     double correct;  ///< position correction (and the tile resolution of pushed bodies)
-    double solve;    ///< gravity, drag, resting tile contacts, the velocity solver
-    double move;     ///< integration and tile resolution of every moving body
-    double sleep;    ///< sleep islands
+    double solve;    ///< the velocity solver, with the gravity, drag and resting tile contacts of the bodies in body contacts
+    double move;     ///< integration and tile resolution of every moving body (with the others' gravity, drag and resting tile contacts, and each body's rest time)
+    double sleep;    ///< sleep islands (of bodies that have rested long enough)
     double step;     ///< the whole step: the sum of the above
 } nt_world_profile;
 
