@@ -100,13 +100,12 @@ static inline nt_real nt__max(nt_real a, nt_real b) { return a > b ? a : b; }
 /* nt__max as the SSE max instruction, which is exactly that select (the second
  * operand when they are equal or either is NaN): for comparisons that go either way
  * at random (a contact's impulse clamped at 0), where a compiler may still branch. */
-#if defined(__SSE2__) || (defined(__SSE__) && !NT_REAL_IS_DOUBLE)
+#if NT_REAL_IS_DOUBLE && defined(__SSE2__)
 #include <emmintrin.h>
-#if NT_REAL_IS_DOUBLE
 static inline nt_real nt__max_sel(nt_real a, nt_real b) { return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b))); }
-#else
+#elif !NT_REAL_IS_DOUBLE && defined(__SSE__)
+#include <xmmintrin.h>
 static inline nt_real nt__max_sel(nt_real a, nt_real b) { return _mm_cvtss_f32(_mm_max_ss(_mm_set_ss(a), _mm_set_ss(b))); }
-#endif
 #else
 static inline nt_real nt__max_sel(nt_real a, nt_real b) { return a > b ? a : b; }
 #endif

@@ -917,7 +917,8 @@ static void correct_positions(nt_world *w)
     if (iters == 0 || w->con_count == 0) return;
     moved_set ms = {w->wake_list, w->scratch_r, 0};
     /* When each body was last pushed, as it * n + k (iteration it, contact k; -1:
-     * not yet; below 2^27: at most 64 iterations of at most 2^21 contacts): a contact
+     * not yet; below 2^31: at most 64 iterations of fewer than 2^25 contacts, which
+     * would take gigabytes): a contact
      * whose bodies have not been pushed since it was last tested gives the same answer
      * again (it depends on their positions only), so later iterations test only the
      * contacts around pushed bodies. */

@@ -257,14 +257,14 @@ struct nt_world {
     double pairs_ms;           /* clock when collide had found the pairs (profiling) */
 };
 
+/* The skin near the origin: no skin is thinner. */
+static inline nt_real nt__skin_base(const nt_world *w) { return w->cell * (nt_real)2.5e-4; }
 /* Contacts are left overlapping by this skin, so that a resting contact is found
  * again next step: 2.5e-4 cell, or one unit in the last place of the coordinates
  * where that is more (far from the origin in float: the resolution is exact there,
  * but the position it moves the body to rounds by half a unit per axis, so the skin
  * must exceed 0.71 unit for the body to stay in contact). Constant over each binade,
  * so that a body sliding along a floor does not sink as its x grows. */
-/* The skin near the origin: no skin is thinner. */
-static inline nt_real nt__skin_base(const nt_world *w) { return w->cell * (nt_real)2.5e-4; }
 static inline nt_real nt__skin(const nt_world *w, nt_vec2 p)
 {
     nt_real mag = nt__max(nt__fabs(p.x), nt__fabs(p.y));
