@@ -297,8 +297,9 @@ static int take_marked_group(nt_world *w, int32_t *parent, const nt_real *tmin, 
 }
 
 /* The body records (156 bytes in float builds, a cache miss each in a big world) are
- * read by one pass over the awake bodies and one over the contacts; the later passes
- * read the scratch arrays (4 bytes a body) and only the sleepers' records. */
+ * not read again here for the rest times: the move noted them (nt__sleep_note). With
+ * sleepers, one pass over the contacts reads the records; the later passes read
+ * sleep_parent and sleep_tmin (8 bytes a body) and only the sleepers' records. */
 void nt__update_sleep(nt_world *w, const nt__sleep_pass *s)
 {
     /* Each awake body's rest time is up to date (nt__sleep_note, in the move). */
