@@ -1369,13 +1369,25 @@ nt_status nt_map_check_shape(const nt_map *map, nt_shape shape)
 
 bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolution *out)
 {
-    nt_resolution res;
-    memset(&res, 0, sizeof res);
+    nt_resolution scratch;
+    nt_resolution *res = out ? out : &scratch;
     /* Refused before any loop, whatever the assert hook answers: a half-size of 1e30
      * let through by a hook that carries on walked cells for a very long time. */
-    res.status = nt_map_check_shape(map, shape);
-    if (out) *out = res;
-    if (res.status != NT_OK) return false;
+    nt_status st = nt_map_check_shape(map, shape);
+    if (st != NT_OK) {
+        memset(res, 0, sizeof *res);
+        res->status = st;
+        return false;
+    }
+    return nt__map_resolve(map, pos, &shape, res);
+}
+
+bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_resolution *out)
+{
+    const nt_shape shape = *shape_p;
+    nt_resolution res;
+    memset(&res, 0, sizeof res);
+    *out = res;
     nt_real ic = map->inv_cell, cell = map->cell;
     if (!nt__finite(pos.x) || !nt__finite(pos.y)) return false;
     nt_vec2 p;
@@ -1385,7 +1397,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
     if (h.x > (nt_real)0.5 || h.y > (nt_real)0.5) {
         if (!resolve_big(vm, p, shape, h, &res)) return false;
         to_world(&res, vm, cell);
-        if (out) *out = res;
+        *out = res;
         return true;
     }
 
@@ -1394,7 +1406,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         /* Far inside the border: come back into the map first. */
         set_escape(&res, p, escape(vm, p, shape, h));
         to_world(&res, vm, cell);
-        if (out) *out = res;
+        *out = res;
         return true;
     }
     const probe obj = {vm, shape, h};
@@ -1438,7 +1450,7 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
         }
     }
     to_world(&res, vm, cell);
-    if (out) *out = res;
+    *out = res;
     return true;
 }
 

@@ -419,10 +419,10 @@ NT__NOINLINE static bool resolve_near(nt_world *w, const nt__body *b, nt_vec2 p_
 {
     w->counters.tile_resolutions++;
     nt_shape s = nt__body_shape(b);
-    if (!w->oneway_count || !oneway_in_range(w, p, b->half)) return nt_map_resolve(w->map, p, s, res);
+    if (!w->oneway_count || !oneway_in_range(w, p, b->half)) return nt__map_resolve(w->map, p, &s, res);
     /* One-way tiles stop a body only from above, and only if it was not inside them. */
     if (oneway_depth(w, p_prev, b) * w->cell <= skin_at(w, p_prev) * 2) {
-        if (!nt_map_resolve(w->map, p, s, res)) return false;
+        if (!nt__map_resolve(w->map, p, &s, res)) return false;
         int ok = 1;
         for (int k = 0; k < res->contact_count; k++)
             if ((nt__cell_flags(w, res->contacts[k].cell_x, res->contacts[k].cell_y) & NT_CELL_ONE_WAY) &&
@@ -430,7 +430,7 @@ NT__NOINLINE static bool resolve_near(nt_world *w, const nt__body *b, nt_vec2 p_
                 ok = 0;
         if (ok) return true;
     }
-    return nt_map_resolve(w->solid, p, s, res);
+    return nt__map_resolve(w->solid, p, &s, res);
 }
 
 /* Free the body at p (it was at p_prev) from the tiles: false when it touches none,
