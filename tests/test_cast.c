@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bodies.h"
 #include "ntile/ntile.h"
 #include "ref.h"
 
@@ -414,13 +415,7 @@ static nt_world *make_world(int w, int h)
 
 static nt_body_id add_body(nt_world *w, nt_body_type type, ref_shape s, double x, double y)
 {
-    nt_body_def d = nt_default_body_def();
-    d.type = type;
-    d.shape = to_nt(s);
-    d.position = nt_v2((nt_real)(x * CELL), (nt_real)(y * CELL));
-    nt_body_id id;
-    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
-    return id;
+    return test_body(w, type, to_nt(s), x * CELL, y * CELL);
 }
 
 typedef struct rbody {

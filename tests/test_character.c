@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bodies.h"
 #include "failalloc.h"
 #include "ntile/ntile.h"
 
@@ -32,12 +33,7 @@ static nt_world *make_world(int w, int h)
 
 static nt_body_id add_character(nt_world *w, nt_body_type type, nt_shape s, double x, double y)
 {
-    nt_body_def d = nt_default_body_def();
-    d.type = type;
-    d.shape = s;
-    d.position = nt_v2((nt_real)x, (nt_real)y);
-    nt_body_id id;
-    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
+    nt_body_id id = test_body(w, type, s, x, y);
     nt_character_def cd = nt_default_character_def();
     assert_int_equal(nt_character_create(w, id, &cd), NT_OK);
     return id;

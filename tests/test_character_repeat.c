@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bodies.h"
 #include "ntile/ntile.h"
 #include "../src/simulation.h"
 
@@ -46,17 +47,6 @@ typedef struct scene {
     nt_character_result r[NCH];
     int recompute; /* the reference: settings set again before every move */
 } scene;
-
-static nt_body_id add_body(nt_world *w, nt_body_type type, nt_shape s, double x, double y)
-{
-    nt_body_def d = nt_default_body_def();
-    d.type = type;
-    d.shape = s;
-    d.position = nt_v2((nt_real)x, (nt_real)y);
-    nt_body_id id;
-    assert_int_equal(nt_body_create(w, &d, &id), NT_OK);
-    return id;
-}
 
 static void make_scene(scene *s, int recompute)
 {
@@ -88,11 +78,11 @@ static void make_scene(scene *s, int recompute)
     const double x0[NCH] = {4.5, 9.7, 18.5, 26.5, 32.5}, top[NCH] = {FLOOR - 4, FLOOR - 2.3, FLOOR, 12, FLOOR};
     nt_character_def cd = nt_default_character_def();
     for (int k = 0; k < NCH; k++) {
-        s->ch[k] = add_body(w, NT_BODY_DYNAMIC, box, x0[k] * CELL, top[k] * CELL - 0.8 * CELL - 1);
+        s->ch[k] = test_body(w, NT_BODY_DYNAMIC, box, x0[k] * CELL, top[k] * CELL - 0.8 * CELL - 1);
         assert_int_equal(nt_character_create(w, s->ch[k], &cd), NT_OK);
     }
     /* A kinematic block far from everyone (it does not move by itself). */
-    s->block = add_body(w, NT_BODY_KINEMATIC, nt_shape_aabb((nt_real)(0.5 * CELL), (nt_real)(0.5 * CELL)), 35 * CELL,
+    s->block = test_body(w, NT_BODY_KINEMATIC, nt_shape_aabb((nt_real)(0.5 * CELL), (nt_real)(0.5 * CELL)), 35 * CELL,
                         8 * CELL);
     /* Character 1 collides with tiles only: its repeats need no look at the bodies. */
     assert_int_equal(nt_body_set_filter(w, s->ch[1], 1, 0), NT_OK);
