@@ -1639,7 +1639,9 @@ typedef struct move_consts {
     nt_vec2 mwh;               /* the map's size in cells */
     nt_vec2 g;                 /* gravity */
     nt_real dt, ic, maxd, vmax2;
+    nt_real vfree2;            /* vmax2, at most NT_REAL_MAX: speeds up to it are left alone */
     nt_real bend;              /* (1/2) dt^2 */
+    nt_real back;              /* fly_free's `back` (one substep) */
     int gravity;               /* g is not zero */
     uint32_t map_epoch;
 } move_consts;
@@ -1654,7 +1656,10 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
     mc.ic = w->inv_cell;
     mc.maxd = w->def.max_cells_per_step * w->cell;
     mc.vmax2 = (mc.maxd / dt) * (mc.maxd / dt);
+    mc.vfree2 = mc.vmax2 <= NT_REAL_MAX ? mc.vmax2 : NT_REAL_MAX;
     mc.bend = (nt_real)0.5 * dt * dt;
+    nt_real h = dt / (nt_real)1;
+    mc.back = dt - (nt_real)0.5 * h;
     mc.gravity = mc.g.x != 0 || mc.g.y != 0;
     mc.map_epoch = w->map_epoch;
     return mc;
@@ -1832,6 +1837,54 @@ static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
     if (b->ntc) tile_solve(w, b);
 }
 
+/* The most common body: dynamic (checked by the caller), not resting, no tile
+ * contact, no time-of-impact shift, its forces answered by the move (not
+ * NT__MF_SOLVED), up to half a cell, no drag (never below 0: its setters). */
+static inline int plain_body(const nt__body *b)
+{
+    return !(b->flags & (NT__BF_RESTING | NT__BF_LARGE)) && !b->ntc && !(b->motion & (NT__MF_SHIFT | NT__MF_SOLVED)) &&
+           !(b->drag > 0);
+}
+
+/* A plain body: its forces (body_forces), then, unless the speed limit holds it,
+ * fly_free, in one pass, with what they share computed once: the same arithmetic.
+ * held: the motion flags its forces keep (body_forces clears NT__MF_HELD), keep: those
+ * they and fly_free keep. Returns 1 when it flew free, else 0 with its forces applied
+ * (the move goes on from there). *cell as fly_free's. */
+static inline int fly_plain(nt_world *w, const move_consts *mc, nt__body *b, unsigned held, unsigned keep, int32_t *cell)
+{
+    const nt_real dt = mc->dt;
+    nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
+    nt_vec2 v = nt_v2(b->v.x + ga.x * dt, b->v.y + ga.y * dt);
+    /* Left alone by the speed limit (NaN and overflow are not), in one substep. */
+    if (nt__dot(v, v) <= mc->vfree2) {
+        nt_vec2 d = nt__scale(v, dt);
+        nt_real d2 = nt__dot(d, d), hmin = nt__min(b->half.x, b->half.y);
+        if (d2 < (nt_real)0.98 * hmin * hmin || !(nt__sqrt(d2) > hmin) || sweep_empty(w, b->p, d, b->half)) {
+            /* flight_gravity (its ga: g * gravity_scale, as above), then fly_free. */
+            if (mc->gravity && (b->motion & NT__MF_AIR) && nt__fabs(ga.x) * mc->bend <= mc->maxd &&
+                nt__fabs(ga.y) * mc->bend <= mc->maxd && (ga.x != 0 || ga.y != 0))
+                d = nt_v2((v.x - ga.x * mc->back) * dt, (v.y - ga.y * mc->back) * dt);
+            nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
+            if (open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell)) {
+                b->v = v;
+                b->motion = (uint8_t)((b->motion & keep) | NT__MF_AIR);
+                if (q.x == b->p.x && q.y == b->p.y) {
+                    b->flags |= NT__BF_RESTING;
+                    b->rest_p = q;
+                    b->rest_epoch = mc->map_epoch;
+                } else {
+                    b->p = q;
+                }
+                return 1;
+            }
+        }
+    }
+    b->v = v;
+    b->motion &= (uint8_t)held;
+    return 0;
+}
+
 /* The forces of a body flagged resting, in a step without body contacts: 1 when it
  * rests again (done with this step), else 0 with its forces applied. */
 NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body *b, int held_ok)
@@ -1863,31 +1916,47 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
     const int held_ok = forces && dt == w->prev_dt && w->force_epoch == w->held_epoch;
     if (forces) w->held_epoch = w->force_epoch;
     else w->force_epoch++;
+    /* fly_plain's masks: body_forces clears NT__MF_HELD, fly_free the last move's marks. */
+    const unsigned held = forces ? (unsigned)~NT__MF_HELD : ~0u, keep = held & (unsigned)~(NT__MF_MET | NT__MF_BOUNCED);
     int moves = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        nt__body *b = &w->bodies[i];
+    /* (The move wakes no body: the awake list stays as it is.) */
+    const int32_t *awake = w->awake, count = w->awake_count;
+    nt__body *bodies = w->bodies;
+    for (int k = 0; k < count; k++) {
+        int32_t i = awake[k];
+        nt__body *b = &bodies[i];
         if (b->type == NT_BODY_DYNAMIC) {
-            if (forces) {
-                if (b->flags & NT__BF_RESTING) {
-                    if (rest_forces(w, mc, b, held_ok)) {
-                        if (sl.on) nt__sleep_note(w, &sl, b, i);
-                        moves++;
-                        continue; /* (in the same grid cell, at the same place) */
-                    }
-                } else {
-                    body_forces(w, mc, b);
+            if (plain_body(b)) {
+                int32_t cell;
+                if (fly_plain(w, mc, b, held, keep, &cell)) {
+                    moves++;
+                    if (b->gcell >= 0 && 2 * cell + b->glist != b->gcell) nt__grid_update(w, i);
+                    if (sl.on) nt__sleep_note(w, &sl, b, i);
+                    continue;
                 }
-            } else if (!(b->motion & NT__MF_SOLVED)) {
-                /* In no contact of the velocity solve: its forces now (solver_forces). */
-                b->v = nt__solve_velocity_g(mc->g, b, dt);
-                if (b->ntc) tile_solve(w, b);
-            }
-            if (at_rest(mc, b)) {
-                rest_again(b);
-                if (sl.on) nt__sleep_note(w, &sl, b, i);
-                moves++;
-                continue; /* (in the same grid cell, at the same place) */
+                /* (Its forces applied, not resting: on to the speed limit.) */
+            } else {
+                if (forces) {
+                    if (b->flags & NT__BF_RESTING) {
+                        if (rest_forces(w, mc, b, held_ok)) {
+                            if (sl.on) nt__sleep_note(w, &sl, b, i);
+                            moves++;
+                            continue; /* (in the same grid cell, at the same place) */
+                        }
+                    } else {
+                        body_forces(w, mc, b);
+                    }
+                } else if (!(b->motion & NT__MF_SOLVED)) {
+                    /* In no contact of the velocity solve: its forces now (solver_forces). */
+                    b->v = nt__solve_velocity_g(mc->g, b, dt);
+                    if (b->ntc) tile_solve(w, b);
+                }
+                if (at_rest(mc, b)) {
+                    rest_again(b);
+                    if (sl.on) nt__sleep_note(w, &sl, b, i);
+                    moves++;
+                    continue; /* (in the same grid cell, at the same place) */
+                }
             }
         }
         nt_real sp2 = nt__dot(b->v, b->v);
