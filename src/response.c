@@ -1710,7 +1710,10 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     return 1;
 }
 
-static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_ok)
+/* The move of a dynamic body that does not fly free (fly_plain, fly_free). Out of
+ * line: inlined, it takes the registers of move_bodies' loop, whose bodies mostly
+ * fly free. */
+NT__NOINLINE static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_ok)
 {
     const nt_real dt = mc->dt;
     nt__body *b = &w->bodies[i];
