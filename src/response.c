@@ -19,6 +19,7 @@
  * Contacts are left overlapping by a tiny skin (2.5e-4 cell plus rounding of the
  * position) so that a resting contact is found again next step without a gap
  * appearing and closing. */
+#include <stddef.h>
 #include <string.h>
 #include <time.h>
 #include "simulation.h"
@@ -1639,7 +1640,9 @@ typedef struct move_consts {
     nt_vec2 mwh;               /* the map's size in cells */
     nt_vec2 g;                 /* gravity */
     nt_real dt, ic, maxd, vmax2;
+    nt_real vfree2;            /* vmax2, at most NT_REAL_MAX: speeds up to it are left alone */
     nt_real bend;              /* (1/2) dt^2 */
+    nt_real back;              /* fly_free's `back` (one substep) */
     int gravity;               /* g is not zero */
     uint32_t map_epoch;
 } move_consts;
@@ -1654,7 +1657,10 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
     mc.ic = w->inv_cell;
     mc.maxd = w->def.max_cells_per_step * w->cell;
     mc.vmax2 = (mc.maxd / dt) * (mc.maxd / dt);
+    mc.vfree2 = mc.vmax2 <= NT_REAL_MAX ? mc.vmax2 : NT_REAL_MAX;
     mc.bend = (nt_real)0.5 * dt * dt;
+    nt_real h = dt / (nt_real)1;
+    mc.back = dt - (nt_real)0.5 * h;
     mc.gravity = mc.g.x != 0 || mc.g.y != 0;
     mc.map_epoch = w->map_epoch;
     return mc;
@@ -1704,7 +1710,10 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     return 1;
 }
 
-static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_ok)
+/* The move of a dynamic body that does not fly free (fly_plain, fly_free). Out of
+ * line: inlined, it takes the registers of move_bodies' loop, whose bodies mostly
+ * fly free. */
+NT__NOINLINE static int move_dynamic(nt_world *w, const move_consts *mc, int32_t i, int free_ok)
 {
     const nt_real dt = mc->dt;
     nt__body *b = &w->bodies[i];
@@ -1832,6 +1841,59 @@ static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
     if (b->ntc) tile_solve(w, b);
 }
 
+/* The most common body: dynamic, not resting, up to half a cell (not LARGE), no tile
+ * contact, no time-of-impact shift, its forces answered by the move (not
+ * NT__MF_SOLVED), no drag (never below 0: its setters). The first four of these are
+ * in four bytes in a row, tested as one word. */
+_Static_assert(offsetof(nt__body, ntc) == offsetof(nt__body, type) + 3, "type, shape, flags and ntc: four bytes in a row");
+static inline int plain_body(const nt__body *b, uint32_t mask, uint32_t want)
+{
+    uint32_t head;
+    memcpy(&head, &b->type, sizeof head);
+    return (head & mask) == want && !(b->motion & (NT__MF_SHIFT | NT__MF_SOLVED)) && !(b->drag > 0);
+}
+
+/* A plain body: its forces (body_forces), then, unless the speed limit holds it,
+ * fly_free, in one pass, with what they share computed once: the same arithmetic.
+ * held: the motion flags its forces keep (body_forces clears NT__MF_HELD), keep: those
+ * they and fly_free keep. Returns 1 when it flew free, else 0 with its forces applied
+ * (the move goes on from there). *cell as fly_free's. */
+static inline int fly_plain(nt_world *w, const move_consts *mc, nt__body *b, unsigned held, unsigned keep, int32_t *cell)
+{
+    const nt_real dt = mc->dt;
+    nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
+    nt_vec2 v = nt_v2(b->v.x + ga.x * dt, b->v.y + ga.y * dt);
+    nt_vec2 d = nt__scale(v, dt);
+    nt_real d2 = nt__dot(d, d), hmin = nt__min(b->half.x, b->half.y);
+    /* Left alone by the speed limit (NaN and overflow are not), in one substep
+     * (substep_count). A step shorter than hmin, at most half a cell (not LARGE), is
+     * below half the limit (a cell or more per step), whatever the rounding: the
+     * limit's test is needed only for longer steps. */
+    if (d2 < (nt_real)0.98 * hmin * hmin ||
+        (nt__dot(v, v) <= mc->vfree2 && (!(nt__sqrt(d2) > hmin) || sweep_empty(w, b->p, d, b->half)))) {
+        /* flight_gravity (its ga: g * gravity_scale, as above), then fly_free. */
+        if (mc->gravity && (b->motion & NT__MF_AIR) && nt__fabs(ga.x) * mc->bend <= mc->maxd &&
+            nt__fabs(ga.y) * mc->bend <= mc->maxd && (ga.x != 0 || ga.y != 0))
+            d = nt_v2((v.x - ga.x * mc->back) * dt, (v.y - ga.y * mc->back) * dt);
+        nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
+        if (open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell)) {
+            b->v = v;
+            b->motion = (uint8_t)((b->motion & keep) | NT__MF_AIR);
+            if (q.x == b->p.x && q.y == b->p.y) {
+                b->flags |= NT__BF_RESTING;
+                b->rest_p = q;
+                b->rest_epoch = mc->map_epoch;
+            } else {
+                b->p = q;
+            }
+            return 1;
+        }
+    }
+    b->v = v;
+    b->motion &= (uint8_t)held;
+    return 0;
+}
+
 /* The forces of a body flagged resting, in a step without body contacts: 1 when it
  * rests again (done with this step), else 0 with its forces applied. */
 NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body *b, int held_ok)
@@ -1853,7 +1915,8 @@ NT__NOINLINE static int rest_forces(nt_world *w, const move_consts *mc, nt__body
  * just before its move, unless the velocity solve answered them (a body in its
  * contacts: NT__MF_SOLVED); `forces`: there was no body contact to solve, so this is
  * every body, and resting ones may be answered from the step before (rest_forces).
- * Each body's rest time is noted after its move (nt__sleep_note). */
+ * Each body's rest time is noted after its move (nt__sleep_note). The most common
+ * body (plain_body) is answered by fly_plain when it flies free. */
 static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sleep)
 {
     nt__sleep_pass sl = *sleep; /* (a local copy: the loop keeps it in registers) */
@@ -1863,11 +1926,30 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
     const int held_ok = forces && dt == w->prev_dt && w->force_epoch == w->held_epoch;
     if (forces) w->held_epoch = w->force_epoch;
     else w->force_epoch++;
+    /* fly_plain's masks: body_forces clears NT__MF_HELD, fly_free the last move's marks. */
+    const unsigned held = forces ? (unsigned)~NT__MF_HELD : ~0u, keep = held & (unsigned)~(NT__MF_MET | NT__MF_BOUNCED);
+    /* plain_body's test of type, shape, flags and ntc, in their order. */
+    uint32_t plain_mask, plain_head;
+    const uint8_t mask[4] = {0xff, 0, NT__BF_RESTING | NT__BF_LARGE, 0xff}, head[4] = {NT_BODY_DYNAMIC, 0, 0, 0};
+    memcpy(&plain_mask, mask, sizeof mask);
+    memcpy(&plain_head, head, sizeof head);
     int moves = 0;
-    for (int k = 0; k < w->awake_count; k++) {
-        int32_t i = w->awake[k];
-        nt__body *b = &w->bodies[i];
-        if (b->type == NT_BODY_DYNAMIC) {
+    /* (The move wakes no body: the awake list stays as it is.) */
+    const int32_t *awake = w->awake, count = w->awake_count;
+    nt__body *bodies = w->bodies;
+    for (int k = 0; k < count; k++) {
+        int32_t i = awake[k];
+        nt__body *b = &bodies[i];
+        if (plain_body(b, plain_mask, plain_head)) {
+            int32_t cell;
+            if (fly_plain(w, mc, b, held, keep, &cell)) {
+                moves++;
+                if (b->gcell >= 0 && 2 * cell + b->glist != b->gcell) nt__grid_update(w, i);
+                if (sl.on) nt__sleep_note(w, &sl, b, i);
+                continue;
+            }
+            /* (Its forces applied, not resting: on to the speed limit.) */
+        } else if (b->type == NT_BODY_DYNAMIC) {
             if (forces) {
                 if (b->flags & NT__BF_RESTING) {
                     if (rest_forces(w, mc, b, held_ok)) {
