@@ -1843,14 +1843,14 @@ static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
 
 /* The most common body: dynamic, not resting, up to half a cell (not LARGE), no tile
  * contact, no time-of-impact shift, its forces answered by the move (not
- * NT__MF_SOLVED), no drag (never below 0: its setters). The first four of these are
- * in four bytes in a row, tested as one word. */
-_Static_assert(offsetof(nt__body, ntc) == offsetof(nt__body, type) + 3, "type, shape, flags and ntc: four bytes in a row");
-static inline int plain_body(const nt__body *b, uint32_t mask, uint32_t want)
+ * NT__MF_SOLVED), no drag (never below 0: its setters). All but the drag are in
+ * eight bytes in a row (type to motion), tested as one word. */
+_Static_assert(offsetof(nt__body, motion) == offsetof(nt__body, type) + 7, "type to motion: eight bytes in a row");
+static inline int plain_body(const nt__body *b, uint64_t mask, uint64_t want)
 {
-    uint32_t head;
-    memcpy(&head, &b->type, sizeof head);
-    return (head & mask) == want && !(b->motion & (NT__MF_SHIFT | NT__MF_SOLVED)) && !(b->drag > 0);
+    uint64_t head;
+    memcpy(&head, (const unsigned char *)b + offsetof(nt__body, type), sizeof head);
+    return (head & mask) == want && !(b->drag > 0);
 }
 
 /* A plain body: its forces (body_forces), then, unless the speed limit holds it,
@@ -1928,14 +1928,17 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
     else w->force_epoch++;
     /* fly_plain's masks: body_forces clears NT__MF_HELD, fly_free the last move's marks. */
     const unsigned held = forces ? (unsigned)~NT__MF_HELD : ~0u, keep = held & (unsigned)~(NT__MF_MET | NT__MF_BOUNCED);
-    /* plain_body's test of type, shape, flags and ntc, in their order. */
-    uint32_t plain_mask, plain_head;
-    const uint8_t mask[4] = {0xff, 0, NT__BF_RESTING | NT__BF_LARGE, 0xff}, head[4] = {NT_BODY_DYNAMIC, 0, 0, 0};
+    /* plain_body's test of type, shape, flags, ntc, glist, level, one_way and motion,
+     * in their order. */
+    uint64_t plain_mask, plain_head;
+    const uint8_t mask[8] = {0xff, 0, NT__BF_RESTING | NT__BF_LARGE, 0xff, 0, 0, 0, NT__MF_SHIFT | NT__MF_SOLVED},
+                  head[8] = {NT_BODY_DYNAMIC, 0, 0, 0, 0, 0, 0, 0};
     memcpy(&plain_mask, mask, sizeof mask);
     memcpy(&plain_head, head, sizeof head);
-    int moves = 0;
     /* (The move wakes no body: the awake list stays as it is.) */
     const int32_t *awake = w->awake, count = w->awake_count;
+    /* Sub-steps: one a body, and those of the bodies move_dynamic takes over more. */
+    int moves = count;
     nt__body *bodies = w->bodies;
     for (int k = 0; k < count; k++) {
         int32_t i = awake[k];
@@ -1943,7 +1946,6 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
         if (plain_body(b, plain_mask, plain_head)) {
             int32_t cell;
             if (fly_plain(w, mc, b, held, keep, &cell)) {
-                moves++;
                 if (b->gcell >= 0 && 2 * cell + b->glist != b->gcell) nt__grid_update(w, i);
                 if (sl.on) nt__sleep_note(w, &sl, b, i);
                 continue;
@@ -1954,7 +1956,6 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
                 if (b->flags & NT__BF_RESTING) {
                     if (rest_forces(w, mc, b, held_ok)) {
                         if (sl.on) nt__sleep_note(w, &sl, b, i);
-                        moves++;
                         continue; /* (in the same grid cell, at the same place) */
                     }
                 } else {
@@ -1968,7 +1969,6 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
             if (at_rest(mc, b)) {
                 rest_again(b);
                 if (sl.on) nt__sleep_note(w, &sl, b, i);
-                moves++;
                 continue; /* (in the same grid cell, at the same place) */
             }
         }
@@ -1987,11 +1987,8 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
                 b->p.x += b->v.x * dt;
                 b->p.y += b->v.y * dt;
             }
-            moves++;
-        } else if (fly_free(w, mc, b, !limited, &cell)) {
-            moves++;
-        } else {
-            moves += move_dynamic(w, mc, i, !limited);
+        } else if (!fly_free(w, mc, b, !limited, &cell)) {
+            moves += move_dynamic(w, mc, i, !limited) - 1;
             if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
             b->motion &= (uint8_t)~NT__MF_SOLVED; /* (fly_free and rest_again clear it too) */
         }

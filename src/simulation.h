@@ -82,6 +82,11 @@ typedef struct nt__body {
     int32_t gnext;             /* broad phase: next body in the cell's list */
     uint32_t category, mask;
     uint8_t type, shape, flags, ntc;
+    /* (Next to type..ntc: the move tests these eight bytes as one word, plain_body.) */
+    uint8_t glist;             /* NT__LIST_* */
+    uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
+    uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
+    uint8_t motion;            /* NT__MF_*: how the move of this step integrates (response.c) */
     uint32_t generation;
     int32_t awake_slot;        /* index in world->awake, -1 when not simulated */
     nt_real inv_mass, friction, bounce;
@@ -90,10 +95,6 @@ typedef struct nt__body {
     int32_t gprev;             /* broad phase: previous body in the cell's list */
     nt_real gravity_scale, drag, sleep_time;
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
-    uint8_t glist;             /* NT__LIST_* */
-    uint8_t level;             /* broad-phase level: 0 up to half a cell, k: up to 2^(k-1) cells (grid.c) */
-    uint8_t one_way;           /* is_one_way: contacts only from above (grid.c), casts likewise (cast.c) */
-    uint8_t motion;            /* NT__MF_*: how the move of this step integrates (response.c) */
     uint32_t rest_epoch;       /* map_epoch when rest_p was resolved */
     nt_vec2 rest_p;
     nt__tile_ct tc[2];

@@ -766,6 +766,49 @@ static void test_asleep_bodies_are_not_simulated(void **state)
     nt_world_destroy(w);
 }
 
+/* substep_count: one move for each simulated body (flying, kinematic), plus the extra
+ * sub-steps of a body whose step is longer than its smaller half-size h where the cells
+ * it sweeps hold a tile: floor(distance / h) + 1 sub-steps (world.h, "Speed limit"). */
+static void test_substep_count(void **state)
+{
+    (void)state;
+    nt_world_def d = nt_default_world_def();
+    d.map.width = 40;
+    d.map.height = 12;
+    d.map.cell_size = 1;
+    d.gravity = nt_v2(0, 0);
+    d.enable_sleep = false;
+    nt_world *w = NULL;
+    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    assert_int_equal(nt_world_set_tile(w, 21, 9, NT_TILE_FULL), NT_OK);
+    nt_body_def b = nt_default_body_def();
+    nt_body_id id;
+    b.shape = nt_shape_aabb(R(0.2), R(0.2));
+    const int drifting = 6;
+    for (int i = 0; i < drifting; i++) {
+        b.position = nt_v2(R(3 + 2 * i), R(3.5));
+        b.velocity = nt_v2(R(0.5), R(-0.25));
+        assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
+    }
+    b.type = NT_BODY_KINEMATIC;
+    b.position = nt_v2(R(30.5), R(3.5));
+    assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
+    /* 0.95 cell in the step (38 units/s at dt 1/40), h = 0.1, sweeping row 9 past the
+     * tile at (21, 9): 9 whole h and a part, 10 sub-steps. */
+    b.type = NT_BODY_DYNAMIC;
+    b.shape = nt_shape_aabb(R(0.1), R(0.1));
+    b.position = nt_v2(R(20.3), R(8.95));
+    b.velocity = nt_v2(R(38), 0);
+    assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
+    const double dist = 38.0 / 40.0, h = 0.1;
+    const int fast = (int)floor(dist / h) + 1;
+    assert_int_equal(nt_world_step(w, R(1.0 / 40.0)), NT_OK);
+    nt_world_counters c = nt_world_get_counters(w);
+    assert_int_equal(c.awake_count, drifting + 2);
+    assert_int_equal(c.substep_count, drifting + 1 + fast);
+    nt_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -782,6 +825,7 @@ int main(void)
         cmocka_unit_test(test_wake_on_tile_edit_and_api),
         cmocka_unit_test(test_sleeping_group),
         cmocka_unit_test(test_asleep_bodies_are_not_simulated),
+        cmocka_unit_test(test_substep_count),
         cmocka_unit_test(test_parked_contacts_follow_their_bodies),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
