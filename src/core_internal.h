@@ -223,7 +223,7 @@ static inline int nt__map_open3(const nt_map *map, int x, int y)
 /* Cell data for any coordinate: cells outside the map are FULL border cells. */
 nt__cell nt__map_cell(const nt_map *map, int x, int y);
 /* nt_map_resolve for a shape nt_map_check_shape accepts (a body's: checked when it was
- * set), without checking it again; out is always written (map.c). */
+ * set), without checking it again; map and out not NULL, out always written (map.c). */
 bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_resolution *out);
 /* nt_map_overlap_depth(map, pos, shape) > limit, for limit >= 0 (map.c). */
 int nt__map_depth_exceeds(const nt_map *map, nt_vec2 pos, const nt_shape *shape, nt_real limit); /* shape by pointer: no struct in registers */

@@ -483,7 +483,7 @@ static void set_pair(nt_resolution *out, nt_vec2 d, const cand *a, const cand *b
  * could free the object only within the tolerance of the free test. Small objects
  * (big = 0) keep their corners within 1.5 cells; large ones test freeness with the
  * early-out scan (the same verdicts). The scalar parameters, not a probe: the small
- * path's caller is inlined into nt_map_resolve, where a struct cost 0.5 % of the
+ * path's caller is inlined into nt__map_resolve, where a struct cost 0.5 % of the
  * particles scene. */
 static int shortest_freeing(const probe *o, nt_vec2 p, const cand *cs, int nc, nt_real lb, int big, nt_resolution *out)
 {

@@ -19,7 +19,6 @@
  * Contacts are left overlapping by a tiny skin (2.5e-4 cell plus rounding of the
  * position) so that a resting contact is found again next step without a gap
  * appearing and closing. */
-#include <stddef.h>
 #include <string.h>
 #include <time.h>
 #include "simulation.h"
@@ -1642,7 +1641,7 @@ typedef struct move_consts {
     nt_real dt, ic, maxd, vmax2;
     nt_real vfree2;            /* vmax2, at most NT_REAL_MAX: speeds up to it are left alone */
     nt_real bend;              /* (1/2) dt^2 */
-    nt_real back;              /* fly_free's `back` (one substep) */
+    nt_real back;              /* fly_plain's `back`: fly_free's for one substep */
     int gravity;               /* g is not zero */
     uint32_t map_epoch;
 } move_consts;
@@ -1679,11 +1678,14 @@ static inline nt_vec2 flight_gravity(const move_consts *mc, const nt__body *b, i
     return ga;
 }
 
-/* move_dynamic's answer for the most common body: no tile contact at the end of the
- * last step, no time-of-impact shift, one substep (a step shorter than its smaller
- * half-size, or a sweep through EMPTY cells only), and open air where it arrives. The
- * same arithmetic as move_dynamic; returns 0, changing nothing, for any other body.
- * *cell: the grid cell of a body up to half a cell where it arrives, else -1. */
+/* move_dynamic's answer for a body in flight that fly_plain does not take (one held
+ * by the speed limit, with drag, above half a cell, resting, or in a contact of the
+ * velocity solve): no tile contact at the end of the last step, no time-of-impact
+ * shift, one substep (a step shorter than its smaller half-size, or a sweep through
+ * EMPTY cells only), and open air where it arrives. The same arithmetic as
+ * move_dynamic; returns 0, changing nothing, for any other body. *cell: the grid cell
+ * of a body up to half a cell where it arrives, else -1. fly_plain repeats its
+ * arithmetic for its bodies: keep the two in step. */
 static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int free_ok, int32_t *cell)
 {
     if (b->ntc || (b->motion & NT__MF_SHIFT)) return 0;
@@ -1845,7 +1847,6 @@ static inline void body_forces(nt_world *w, const move_consts *mc, nt__body *b)
  * contact, no time-of-impact shift, its forces answered by the move (not
  * NT__MF_SOLVED), no drag (never below 0: its setters). All but the drag are in
  * eight bytes in a row (type to motion), tested as one word. */
-_Static_assert(offsetof(nt__body, motion) == offsetof(nt__body, type) + 7, "type to motion: eight bytes in a row");
 static inline int plain_body(const nt__body *b, uint64_t mask, uint64_t want)
 {
     uint64_t head;
@@ -1854,10 +1855,11 @@ static inline int plain_body(const nt__body *b, uint64_t mask, uint64_t want)
 }
 
 /* A plain body: its forces (body_forces), then, unless the speed limit holds it,
- * fly_free, in one pass, with what they share computed once: the same arithmetic.
- * held: the motion flags its forces keep (body_forces clears NT__MF_HELD), keep: those
- * they and fly_free keep. Returns 1 when it flew free, else 0 with its forces applied
- * (the move goes on from there). *cell as fly_free's. */
+ * fly_free, in one pass, with what they share computed once: the same arithmetic
+ * (keep it in step with body_forces, flight_gravity and fly_free). held: the motion
+ * flags its forces keep (body_forces clears NT__MF_HELD), keep: those they and
+ * fly_free keep. Returns 1 when it flew free (*cell: the grid cell where it arrived),
+ * else 0 with its forces applied and *cell untouched (the move goes on from there). */
 static inline int fly_plain(nt_world *w, const move_consts *mc, nt__body *b, unsigned held, unsigned keep, int32_t *cell)
 {
     const nt_real dt = mc->dt;
@@ -1926,24 +1928,33 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
     const int held_ok = forces && dt == w->prev_dt && w->force_epoch == w->held_epoch;
     if (forces) w->held_epoch = w->force_epoch;
     else w->force_epoch++;
-    /* fly_plain's masks: body_forces clears NT__MF_HELD, fly_free the last move's marks. */
+    /* fly_plain's masks: body_forces clears NT__MF_HELD (in steps without body contacts
+     * only: the solve's forces keep it), fly_free the last move's marks. */
     const unsigned held = forces ? (unsigned)~NT__MF_HELD : ~0u, keep = held & (unsigned)~(NT__MF_MET | NT__MF_BOUNCED);
-    /* plain_body's test of type, shape, flags, ntc, glist, level, one_way and motion,
-     * in their order. */
+    /* plain_body's test of the eight bytes from type to motion, each byte placed by
+     * its field's offset. */
+#define AT(f) (offsetof(nt__body, f) - offsetof(nt__body, type))
     uint64_t plain_mask, plain_head;
-    const uint8_t mask[8] = {0xff, 0, NT__BF_RESTING | NT__BF_LARGE, 0xff, 0, 0, 0, NT__MF_SHIFT | NT__MF_SOLVED},
-                  head[8] = {NT_BODY_DYNAMIC, 0, 0, 0, 0, 0, 0, 0};
+    uint8_t mask[8] = {0}, head[8] = {0};
+    mask[AT(type)] = 0xff;
+    head[AT(type)] = NT_BODY_DYNAMIC;
+    mask[AT(flags)] = NT__BF_RESTING | NT__BF_LARGE;
+    mask[AT(ntc)] = 0xff;
+    mask[AT(motion)] = NT__MF_SHIFT | NT__MF_SOLVED;
+#undef AT
     memcpy(&plain_mask, mask, sizeof mask);
     memcpy(&plain_head, head, sizeof head);
     /* (The move wakes no body: the awake list stays as it is.) */
-    const int32_t *awake = w->awake, count = w->awake_count;
-    /* Sub-steps: one a body, and those of the bodies move_dynamic takes over more. */
+    const int32_t *awake = w->awake;
+    const int count = w->awake_count;
+    /* Sub-steps: one for each awake body, plus move_dynamic's extra ones. */
     int moves = count;
     nt__body *bodies = w->bodies;
     for (int k = 0; k < count; k++) {
         int32_t i = awake[k];
         nt__body *b = &bodies[i];
-        if (plain_body(b, plain_mask, plain_head)) {
+        int plain = plain_body(b, plain_mask, plain_head);
+        if (plain) {
             int32_t cell;
             if (fly_plain(w, mc, b, held, keep, &cell)) {
                 if (b->gcell >= 0 && 2 * cell + b->glist != b->gcell) nt__grid_update(w, i);
@@ -1987,7 +1998,9 @@ static void move_bodies(nt_world *w, nt_real dt, int forces, nt__sleep_pass *sle
                 b->p.x += b->v.x * dt;
                 b->p.y += b->v.y * dt;
             }
-        } else if (!fly_free(w, mc, b, !limited, &cell)) {
+        } else if ((plain && !limited) || !fly_free(w, mc, b, !limited, &cell)) {
+            /* (A plain body the speed limit leaves alone has had fly_free's answer from
+             * fly_plain: no.) */
             moves += move_dynamic(w, mc, i, !limited) - 1;
             if ((b->motion & (NT__MF_MET | NT__MF_SOLVED)) == (NT__MF_MET | NT__MF_SOLVED)) w->kicked_count++;
             b->motion &= (uint8_t)~NT__MF_SOLVED; /* (fly_free and rest_again clear it too) */

@@ -4,6 +4,7 @@
 #ifndef NT_SIMULATION_H
 #define NT_SIMULATION_H
 
+#include <stddef.h>
 #include "core_internal.h"
 #include "ntile/world.h" /* public: outside the hidden region */
 
@@ -73,10 +74,10 @@ typedef struct nt__proxy {
 } nt__proxy;
 
 /* Hot per-body state. Cold data (user pointer, creation order) is in nt__body_cold.
- * What the pair search and the contact passes read of most bodies (position, size,
- * velocity, type and flags, generation, awake slot, inverse mass, material, grid
- * cell) comes first, in the first 64 bytes of float builds; the tile contacts, read
- * by them only for bodies resting on tiles, come last. */
+ * What the pair search, the contact passes and the move read of most bodies
+ * (position, size, velocity, type and flags, the move's marks, generation, awake slot,
+ * inverse mass, material, grid cell) comes first, in the first 68 bytes of float
+ * builds; the tile contacts, read by them only for bodies resting on tiles, come last. */
 typedef struct nt__body {
     nt_vec2 p, half, v;
     int32_t gnext;             /* broad phase: next body in the cell's list */
@@ -91,7 +92,7 @@ typedef struct nt__body {
     int32_t awake_slot;        /* index in world->awake, -1 when not simulated */
     nt_real inv_mass, friction, bounce;
     int32_t gcell;             /* broad phase: list head index (-1 = not in the grid) */
-    /* The rest: integration, sleep, the broad phase's list links, tile contacts. */
+    /* The rest: integration, sleep, the broad phase's list link, tile contacts. */
     int32_t gprev;             /* broad phase: previous body in the cell's list */
     nt_real gravity_scale, drag, sleep_time;
     int32_t sleep_next;        /* circular list of a sleeping group; -1 otherwise; free list when dead */
@@ -99,6 +100,7 @@ typedef struct nt__body {
     nt_vec2 rest_p;
     nt__tile_ct tc[2];
 } nt__body;
+_Static_assert(offsetof(nt__body, motion) == offsetof(nt__body, type) + 7, "type to motion: eight bytes in a row");
 
 typedef struct nt__body_cold {
     void *user_data;

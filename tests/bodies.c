@@ -1,11 +1,11 @@
-#include "bodies.h"
-
+/* See bodies.h. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
-
 #include <cmocka.h>
+
+#include "bodies.h"
 
 nt_body_id test_body(nt_world *w, nt_body_type type, nt_shape s, double x, double y)
 {

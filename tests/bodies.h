@@ -1,5 +1,5 @@
 /* Making the bodies of a test world: the body definition most tests fill, with the
- * creation checked. Shared by the world, cast and character tests. */
+ * creation checked. Shared by the cast and character tests. */
 #ifndef NTILE_TESTS_BODIES_H
 #define NTILE_TESTS_BODIES_H
 

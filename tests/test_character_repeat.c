@@ -83,7 +83,7 @@ static void make_scene(scene *s, int recompute)
     }
     /* A kinematic block far from everyone (it does not move by itself). */
     s->block = test_body(w, NT_BODY_KINEMATIC, nt_shape_aabb((nt_real)(0.5 * CELL), (nt_real)(0.5 * CELL)), 35 * CELL,
-                        8 * CELL);
+                         8 * CELL);
     /* Character 1 collides with tiles only: its repeats need no look at the bodies. */
     assert_int_equal(nt_body_set_filter(w, s->ch[1], 1, 0), NT_OK);
 }

@@ -766,9 +766,10 @@ static void test_asleep_bodies_are_not_simulated(void **state)
     nt_world_destroy(w);
 }
 
-/* substep_count: one move for each simulated body (flying, kinematic), plus the extra
- * sub-steps of a body whose step is longer than its smaller half-size h where the cells
- * it sweeps hold a tile: floor(distance / h) + 1 sub-steps (world.h, "Speed limit"). */
+/* substep_count: one move for each simulated body (flying, kinematic, and a fast one
+ * whose swept cells are all EMPTY), plus the extra sub-steps of a body whose step is
+ * longer than its smaller half-size h where the cells it sweeps hold a tile:
+ * floor(distance / h) + 1 sub-steps (world.h, "Speed limit"). */
 static void test_substep_count(void **state)
 {
     (void)state;
@@ -800,12 +801,15 @@ static void test_substep_count(void **state)
     b.position = nt_v2(R(20.3), R(8.95));
     b.velocity = nt_v2(R(38), 0);
     assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
+    /* As fast through EMPTY cells only (row 6): one sub-step. */
+    b.position = nt_v2(R(25.3), R(6.5));
+    assert_int_equal(nt_body_create(w, &b, &id), NT_OK);
     const double dist = 38.0 / 40.0, h = 0.1;
     const int fast = (int)floor(dist / h) + 1;
     assert_int_equal(nt_world_step(w, R(1.0 / 40.0)), NT_OK);
     nt_world_counters c = nt_world_get_counters(w);
-    assert_int_equal(c.awake_count, drifting + 2);
-    assert_int_equal(c.substep_count, drifting + 1 + fast);
+    assert_int_equal(c.awake_count, drifting + 3);
+    assert_int_equal(c.substep_count, drifting + 1 + fast + 1);
     nt_world_destroy(w);
 }
 

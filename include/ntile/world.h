@@ -14,10 +14,10 @@
  *
  * Speed limit: a body moves at most `max_cells_per_step` cells (default 4) in one
  * step; faster velocities are clamped. Within that limit a body never passes
- * through a tile: a step whose motion is longer than the body's smaller half-size
- * is split into sub-steps for that body (only when the swept cells hold a tile;
- * at most 256, so this holds for half-sizes down to max_cells_per_step / 256
- * cells). Body-body contacts are found once per step, for pairs overlapping or
+ * through a tile: a step whose motion is longer than the body's smaller half-size h
+ * is split into floor(distance / h) + 1 sub-steps for that body (only when the swept
+ * cells hold a tile; at most 256, so this holds for half-sizes down to
+ * max_cells_per_step / 256 cells). Body-body contacts are found once per step, for pairs overlapping or
  * closer than 0.05 cell plus the distance they close in on each other during the
  * step (speculative contacts, at most one cell): a fast pair is stopped where it
  * meets instead of being found inside each other. Pairs closing faster than about
