@@ -918,10 +918,9 @@ static void correct_positions(nt_world *w)
     moved_set ms = {w->wake_list, w->scratch_r, 0};
     /* When each body was last pushed, as it * n + k (iteration it, contact k; -1:
      * not yet; below 2^31: at most 64 iterations of fewer than 2^25 contacts, which
-     * would take gigabytes): a contact
-     * whose bodies have not been pushed since it was last tested gives the same answer
-     * again (it depends on their positions only), so later iterations test only the
-     * contacts around pushed bodies. */
+     * would take gigabytes): a contact whose bodies have not been pushed since it was
+     * last tested gives the same answer again (it depends on their positions only), so
+     * later iterations test only the contacts around pushed bodies. */
     const int n = w->con_count;
     int32_t *pushed_at = w->scratch_a;
     for (int k = 0; k < n; k++) pushed_at[key_a(w->con[k].key)] = pushed_at[key_b(w->con[k].key)] = -1;
@@ -1641,7 +1640,7 @@ typedef struct move_consts {
     nt_real dt, ic, maxd, vmax2;
     nt_real vfree2;            /* vmax2, at most NT_REAL_MAX: speeds up to it are left alone */
     nt_real bend;              /* (1/2) dt^2 */
-    nt_real back;              /* fly_plain's `back`: fly_free's for one substep */
+    nt_real back;              /* move_dynamic's `back` for one substep: dt - dt / 2 */
     int gravity;               /* g is not zero */
     uint32_t map_epoch;
 } move_consts;
@@ -1693,10 +1692,8 @@ static inline int fly_free(nt_world *w, const move_consts *mc, nt__body *b, int 
     nt_vec2 disp = nt__scale(b->v, dt);
     if (substep_count(w, b, disp) != 1) return 0;
     nt_vec2 ga = flight_gravity(mc, b, free_ok), d = disp;
-    if (ga.x != 0 || ga.y != 0) {
-        nt_real h = dt / (nt_real)1, back = dt - (nt_real)0.5 * h; /* one substep, as move_dynamic computes it */
-        d = nt_v2((b->v.x - ga.x * back) * h, (b->v.y - ga.y * back) * h);
-    }
+    if (ga.x != 0 || ga.y != 0) /* one substep (h = dt / 1 = dt), as move_dynamic computes it */
+        d = nt_v2((b->v.x - ga.x * mc->back) * dt, (b->v.y - ga.y * mc->back) * dt);
     nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
     *cell = -1;
     if (!(!(b->flags & NT__BF_LARGE) ? open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell) : open_box(w, q, b->half))) return 0;

@@ -773,14 +773,8 @@ static void test_asleep_bodies_are_not_simulated(void **state)
 static void test_substep_count(void **state)
 {
     (void)state;
-    nt_world_def d = nt_default_world_def();
-    d.map.width = 40;
-    d.map.height = 12;
-    d.map.cell_size = 1;
-    d.gravity = nt_v2(0, 0);
-    d.enable_sleep = false;
-    nt_world *w = NULL;
-    assert_int_equal(nt_world_create(&d, &w), NT_OK);
+    nt_world *w = make_world(40, 12, NT_FRICTION_COULOMB, R(0.5), false);
+    assert_int_equal(nt_world_set_gravity(w, nt_v2(0, 0)), NT_OK);
     assert_int_equal(nt_world_set_tile(w, 21, 9, NT_TILE_FULL), NT_OK);
     nt_body_def b = nt_default_body_def();
     nt_body_id id;

@@ -17,11 +17,11 @@
  * through a tile: a step whose motion is longer than the body's smaller half-size h
  * is split into floor(distance / h) + 1 sub-steps for that body (only when the swept
  * cells hold a tile; at most 256, so this holds for half-sizes down to
- * max_cells_per_step / 256 cells). Body-body contacts are found once per step, for pairs overlapping or
- * closer than 0.05 cell plus the distance they close in on each other during the
- * step (speculative contacts, at most one cell): a fast pair is stopped where it
- * meets instead of being found inside each other. Pairs closing faster than about
- * a cell per step can still pass into each other.
+ * max_cells_per_step / 256 cells). Body-body contacts are found once per step, for
+ * pairs overlapping or closer than 0.05 cell plus the distance they close in on each
+ * other during the step (speculative contacts, at most one cell): a fast pair is
+ * stopped where it meets instead of being found inside each other. Pairs closing
+ * faster than about a cell per step can still pass into each other.
  *
  * Contacts rest a "skin" deep (2.5e-4 cell), so that a resting contact is found
  * again every step: a body on a floor sits 2.5e-4 cell into it (a body thinner than
