@@ -416,13 +416,12 @@ static inline int test_pair(nt_world *w, int32_t i, int32_t j)
         return 0;
     }
     if (w->con_new_count == w->con_new_cap) {
-        nt__contact *p = (nt__contact *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap,
-                                                 w->con_new_count + 1, sizeof *p);
+        nt__pair *p = (nt__pair *)nt__grow(w->con_new, w->con_new_count, &w->con_new_cap, w->con_new_count + 1,
+                                           sizeof *p);
         if (!p) return 0;
         w->con_new = p;
     }
-    nt__contact *c = &w->con_new[w->con_new_count++];
-    memset(c, 0, sizeof *c);
+    nt__pair *c = &w->con_new[w->con_new_count++];
     c->key = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
     c->gen_a = ba->generation;
     c->gen_b = bb->generation;

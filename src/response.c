@@ -91,25 +91,29 @@ static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
     return src;
 }
 
-/* The order of n contacts by key (n >= 0), as n indices into src. An LSD radix sort
- * of records; keys are unique, so the order is fully determined. Most worlds number
- * their bodies below 2^16: a record is then one word, the key's two slots packed into
- * its high half (the same order as the key) above the index, sorted over the bits in
- * use in as few passes of at most 11 bits as cover them. Else a record is (key, index),
- * sorted a byte a pass, skipping the bytes every key shares. keys holds 4n words. */
-static const uint32_t *sort_by_key(const nt__contact *src, int n, int slot_bits, uint64_t *keys)
+/* The order of n pairs by key (n >= 0), as n indices into src. An LSD radix sort
+ * of records; keys are unique, so the order is fully determined. A key's two slots
+ * fit in slot_bits each (the bodies' numbers): when they and the index fit in one
+ * word, a record is that word, the slots packed into its top 2 * slot_bits bits (the
+ * same order as the key) above the index, sorted over the key's bits in as few passes
+ * of at most 11 bits as cover them (at most three passes up to 2^16 bodies, four up to
+ * 2^22).
+ * Else a record is (key, index), sorted a byte a pass, skipping the bytes every key
+ * shares. keys holds 4n words. */
+static const uint32_t *sort_by_key(const nt__pair *src, int n, int slot_bits, uint64_t *keys)
 {
     if (n <= 0) return (const uint32_t *)keys; /* keys may still be NULL: not read */
-    if (slot_bits <= 16) {
+    const int bits = 2 * slot_bits, low = 64 - bits; /* the key's bits; below them, the index's */
+    if (bits <= 48 && (uint64_t)(n - 1) >> low == 0) {
         uint64_t *a = keys, *b = keys + (size_t)n;
         for (int i = 0; i < n; i++) {
             uint64_t k = src[i].key;
-            a[i] = (((k >> 32) << slot_bits | (k & 0xffffffffu)) << 32) | (uint32_t)i;
+            a[i] = (((k >> 32) << slot_bits | (k & 0xffffffffu)) << low) | (uint32_t)i;
         }
-        const int bits = 2 * slot_bits, passes = (bits + 10) / 11, digit = (bits + passes - 1) / passes;
+        const int passes = (bits + 10) / 11, digit = (bits + passes - 1) / passes;
         const uint32_t digits = 1u << digit, mask = digits - 1u;
         uint32_t count[2049];
-        for (int shift = 32; shift < 32 + bits; shift += digit) {
+        for (int shift = low; shift < 64; shift += digit) {
             memset(count, 0, (digits + 1) * sizeof *count);
             for (int i = 0; i < n; i++) count[((a[i] >> shift) & mask) + 1]++;
             for (uint32_t d = 0; d < digits; d++) count[d + 1] += count[d];
@@ -118,8 +122,9 @@ static const uint32_t *sort_by_key(const nt__contact *src, int n, int slot_bits,
             a = b;
             b = t;
         }
+        const uint64_t imask = ((uint64_t)1 << low) - 1u;
         uint32_t *idx = (uint32_t *)(keys + 2 * (size_t)n); /* past both record arrays */
-        for (int i = 0; i < n; i++) idx[i] = (uint32_t)a[i];
+        for (int i = 0; i < n; i++) idx[i] = (uint32_t)(a[i] & imask);
         return idx;
     }
     uint64_t *a = keys, *b = keys + 2 * (size_t)n;
@@ -213,6 +218,18 @@ static void keep_box_axis(const nt_world *w, const nt__contact *o, nt__contact *
     }
 }
 
+/* The contact a pair of the pair search starts as: its fields, the rest zero. */
+static inline void contact_of(nt__contact *c, const nt__pair *p)
+{
+    memset(c, 0, sizeof *c);
+    c->key = p->key;
+    c->gen_a = p->gen_a;
+    c->gen_b = p->gen_b;
+    c->n = p->n;
+    c->depth = p->depth;
+    c->flags = p->flags;
+}
+
 /* con_tmp (just written) becomes con; the old con is the next scratch buffer. */
 static void swap_contact_buffers(nt_world *w)
 {
@@ -292,12 +309,12 @@ static nt_status collide(nt_world *w, nt_real dt)
             else if (c->flags & NT__CF_TOUCH)
                 end_event(w, c);
         } else if (i >= no || w->con_new[order[j]].key < old[i].key) {
-            out[k] = w->con_new[order[j++]];
+            contact_of(&out[k], &w->con_new[order[j++]]);
             if (out[k].flags & NT__CF_TOUCH) begin_event(w, &out[k]);
             k++;
         } else {
             const nt__contact *o = &old[i++];
-            out[k] = w->con_new[order[j++]];
+            contact_of(&out[k], &w->con_new[order[j++]]);
             nt__contact *c = &out[k++];
             if (o->gen_a == c->gen_a && o->gen_b == c->gen_b) {
                 if (c->flags & NT__CF_TOUCH) keep_box_axis(w, o, c);

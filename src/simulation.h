@@ -156,6 +156,17 @@ typedef struct nt__stile {
     int32_t body;
 } nt__stile;
 
+/* What the pair search finds of a contact (con_new): the fields it sets, half a
+ * contact's bytes, since every new contact is written, sorted and read again each step.
+ * collide makes the contact from it (the other fields zero). */
+typedef struct nt__pair {
+    uint64_t key;              /* (a << 32) | b */
+    uint32_t gen_a, gen_b;
+    nt_vec2 n;                 /* from a towards b */
+    nt_real depth;
+    uint32_t flags;            /* NT__CF_SENSOR_A, NT__CF_SENSOR_B, NT__CF_TOUCH */
+} nt__pair;
+
 /* A body pair whose shapes overlap (or a sensor and a visitor). a < b by slot. */
 typedef struct nt__contact {
     uint64_t key;              /* (a << 32) | b */
@@ -216,7 +227,8 @@ struct nt_world {
     uint64_t char_repeats;     /* character moves answered from the last move (character.c; for the tests) */
     int char_count, char_cap;
 
-    nt__contact *con, *con_new, *con_tmp, *parked;
+    nt__contact *con, *con_tmp, *parked;
+    nt__pair *con_new;         /* this step's pairs (nt__grid_find_pairs), in the order found */
     uint64_t *sort_keys;       /* 2 x 2 per new contact: (key, index) records of the radix sort */
     int sort_cap;
     int con_count, con_new_count, parked_count;
