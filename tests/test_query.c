@@ -734,6 +734,22 @@ static void test_usage_errors(void **state)
     assert_non_null(strstr(r.err, "narrow"));
     run_free(&r);
 
+    /* An option the benchmark does not read is refused, not ignored (before any timing:
+     * nothing on stdout). */
+    const char *refused[][6] = {{"bench", "narrow", "--profile", NULL},
+                                {"bench", "scaling", "--wide", NULL},
+                                {"bench", "character", "--out", "x.csv", NULL},
+                                {"bench", "world", "rain", "--out", "x.csv", NULL}};
+    const char *opt_of[] = {"--profile", "--wide", "--out", "--out"};
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+        run_cli(&r, NULL, refused[i]);
+        assert_int_equal(r.status, 2);
+        assert_int_equal(r.out_len, 0);
+        assert_non_null(strstr(r.err, opt_of[i]));
+        assert_non_null(strstr(r.err, "does not apply"));
+        run_free(&r);
+    }
+
     /* Help: usage on stdout, status 0. */
     const char *helps[][2] = {{"--help", NULL}, {"help", NULL}, {"-h", NULL}};
     for (size_t i = 0; i < sizeof helps / sizeof helps[0]; i++) {

@@ -165,22 +165,28 @@ static int bench_narrow(const bench_opts *opts, int nargs, char **args)
 
 /* ---------- scene table and the subcommand ---------- */
 
+/* The options a benchmark reads besides --runs and --min-ms: any other is refused
+ * rather than ignored. */
+enum { OPT_WIDE = 1, OPT_PROFILE = 2, OPT_OUT = 4 };
+
 typedef struct bench_scene {
     const char *name;
     const char *summary;
     int (*run)(const bench_opts *opts, int nargs, char **args); /* args: the words after the name */
+    unsigned options;                                           /* OPT_* */
 } bench_scene;
 
 static const bench_scene scenes[] = {
-    {"narrow", "ns per AABB-vs-tile and circle-vs-tile test over the 33 solid tiles", bench_narrow},
+    {"narrow", "ns per AABB-vs-tile and circle-vs-tile test over the 33 solid tiles", bench_narrow, 0},
     {"world", "ns per body-step and error metrics of world scenes (tools/ntile/scene.c): bench world [SCENE...]",
-     bench_world},
+     bench_world, OPT_WIDE | OPT_PROFILE},
     {"scaling", "ns per body-step at 1k/10k/100k bodies, memory per body and cell, skipping ratios",
-     bench_scaling},
+     bench_scaling, OPT_PROFILE},
     {"character", "ns per character move (1,000 running and jumping over rain's map) against a particles body-step",
-     bench_character},
-    {"sweep", "run time against error over dt, substeps, iterations, friction model: --out FILE.csv", bench_sweep},
-    {"plot", "Pareto front and SVG of sweep CSVs: bench plot FILE.csv... --out PREFIX", bench_plot},
+     bench_character, 0},
+    {"sweep", "run time against error over dt, substeps, iterations, friction model: --out FILE.csv", bench_sweep,
+     OPT_OUT},
+    {"plot", "Pareto front and SVG of sweep CSVs: bench plot FILE.csv... --out PREFIX", bench_plot, OPT_OUT},
 };
 #define SCENE_COUNT (sizeof scenes / sizeof scenes[0])
 
@@ -191,7 +197,8 @@ void cli_bench_usage(FILE *f)
           "      least MS milliseconds (default 20). A progress line per scene goes to\n"
           "      stderr, and a warning when a spread is above 25 % (a busy host). world:\n"
           "      one narrow row per check with PASS/FAIL against its target; --wide: every\n"
-          "      error column instead; --profile: the step split by phase under each scene.\n"
+          "      error column instead; --profile (world, scaling): the step split by phase\n"
+          "      under each scene or body count.\n"
           "      Scenes:\n",
           f);
     for (size_t i = 0; i < SCENE_COUNT; i++) fprintf(f, "        %-10s %s\n", scenes[i].name, scenes[i].summary);
@@ -276,6 +283,17 @@ int cli_bench(int argc, char **argv)
             words[nwords++] = argv[i];
         }
     }
+    static const struct {
+        unsigned bit;
+        const char *name;
+    } used[] = {{OPT_WIDE, "--wide"}, {OPT_PROFILE, "--profile"}, {OPT_OUT, "--out"}};
+    const unsigned given = (opts.wide ? OPT_WIDE : 0u) | (opts.profile ? OPT_PROFILE : 0u) | (opts.out ? OPT_OUT : 0u);
+    for (size_t k = 0; k < sizeof used / sizeof used[0]; k++)
+        if ((given & used[k].bit) && !(scene->options & used[k].bit)) {
+            fprintf(stderr, "ntile bench %s: %s does not apply to this benchmark\n", scene->name, used[k].name);
+            free(words);
+            return bench_usage_error();
+        }
     int rc = scene->run(&opts, nwords, words);
     free(words);
     return rc;

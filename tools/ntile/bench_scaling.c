@@ -135,6 +135,23 @@ static double wake_cost(int shelves, int *bodies)
     return us[WAKES / 2];
 }
 
+/* --profile: rain's step at n bodies split by phase (one more run). */
+static void print_phases(int n)
+{
+    scene s;
+    nt_world_profile prof;
+    if (!scene_make("rain", n, &s)) return;
+    if (ntile_scene_profile(&s, &prof)) {
+        double per = 1e6 / ((double)s.nbodies * s.steps); /* ms in all -> ns per body-step */
+        printf("#  rain %6d phases, ns/body-step: pairs %.1f  contacts %.1f  correct %.1f  solve %.1f  move %.1f  "
+               "sleep %.1f  (one more run, nt_world_get_profile)\n",
+               n, prof.pairs * per, prof.contacts * per, prof.correct * per, prof.solve * per, prof.move * per,
+               prof.sleep * per);
+        fflush(stdout);
+    }
+    scene_free(&s);
+}
+
 int bench_scaling(const bench_opts *opts, int nargs, char **args)
 {
     if (!bench_plain_args("scaling", opts, nargs, args)) return CLI_USAGE;
@@ -152,6 +169,7 @@ int bench_scaling(const bench_opts *opts, int nargs, char **args)
         bench_warn_spread(stderr, "scaling", what, run_spread(&r));
         lo = r.ns < lo ? r.ns : lo;
         hi = r.ns > hi ? r.ns : hi;
+        if (opts->profile) print_phases(counts[j]);
     }
     printf("scale spread %.1f %% (largest / smallest ns per body-step, 1k to 100k bodies; target <= 35 %%) %s\n",
            (hi / lo - 1) * 100, (hi / lo - 1) * 100 <= 35 ? "PASS" : "FAIL");
