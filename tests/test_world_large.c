@@ -145,6 +145,80 @@ static double towards(double d, nt_real va, nt_real vb)
     return 0;
 }
 
+/* Contacts stay in key order, with every pair found once, in a world numbering its
+ * bodies beyond 2^16 (the new pairs' radix sort then packs 17-bit slots): 70,000 small
+ * bodies one cell apart (no pair among them), then 300 more, each overlapping one of
+ * them (at their far, high-numbered end and scattered through the rest), 60 of those
+ * overlapped in turn by a third body. The pairs expected are counted from the
+ * construction and checked against brute force over the bodies of each cluster. */
+static void test_contact_order_beyond_2_16_bodies(void **state)
+{
+    (void)state;
+    enum { SIDE = 265, FILL = 70000, ADDED = 300, THIRD = 60 };
+    nt_world *w = make_world(SIDE + 2, SIDE + 2, 1, nt_v2(0, 0), NT_FRICTION_COULOMB, false);
+    const int n = FILL + ADDED + THIRD;
+    nt_body_id *ids = (nt_body_id *)calloc((size_t)n, sizeof *ids);
+    int *target = (int *)calloc((size_t)n, sizeof *target);
+    assert_non_null(ids);
+    assert_non_null(target);
+    nt_body_def d = nt_default_body_def();
+    d.shape = nt_shape_aabb((nt_real)0.2, (nt_real)0.2);
+    for (int k = 0; k < FILL; k++) {
+        d.position = nt_v2((nt_real)(k % SIDE) + (nt_real)1.5, (nt_real)(k / SIDE) + (nt_real)1.5);
+        assert_int_equal(nt_body_create(w, &d, &ids[k]), NT_OK);
+    }
+    ref_rng rng = ref_rng_seed(2216);
+    char *used = (char *)calloc(FILL, 1);
+    assert_non_null(used);
+    for (int k = FILL; k < n; k++) {
+        int t;
+        if (k < FILL + ADDED) {
+            /* Half among the last fillers (both slots above 2^16), half anywhere. */
+            do t = k % 2 ? FILL - 1 - ref_rng_int(&rng, 4000) : ref_rng_int(&rng, FILL);
+            while (used[t]);
+            used[t] = 1;
+        } else {
+            t = FILL + (k - FILL - ADDED) * (ADDED / THIRD); /* an added body */
+        }
+        target[k] = t;
+        nt_vec2 at = nt_body_get_position(w, ids[t < FILL ? t : target[t]]);
+        d.position = nt_v2(at.x + (k < FILL + ADDED ? (nt_real)0.1 : (nt_real)-0.1), at.y);
+        assert_int_equal(nt_body_create(w, &d, &ids[k]), NT_OK);
+    }
+    /* Expected: each added body with its filler; each third body with the added body
+     * and that one's filler (0.1 and 0.2 apart against 0.4 of half-sizes); nothing
+     * else is within 0.45 cell of anything. Checked by brute force per cluster. */
+    uint64_t *want = (uint64_t *)calloc((size_t)(ADDED + 2 * THIRD), sizeof *want);
+    assert_non_null(want);
+    int nw = 0;
+    for (int k = FILL; k < n; k++) {
+        int f = target[k] < FILL ? target[k] : target[target[k]];
+        int members[3] = {f, k < FILL + ADDED ? k : target[k], k < FILL + ADDED ? -1 : k};
+        for (int a = 0; a < 3; a++)
+            for (int b = a + 1; b < 3; b++) {
+                if (members[a] < 0 || members[b] < 0 || (members[b] != k && members[a] != k)) continue;
+                nt_vec2 pa = nt_body_get_position(w, ids[members[a]]), pb = nt_body_get_position(w, ids[members[b]]);
+                if (!(fabs((double)pa.x - (double)pb.x) < 0.4 && fabs((double)pa.y - (double)pb.y) < 0.4)) continue;
+                uint64_t ia = (uint64_t)(ids[members[a]].index1 - 1), ib = (uint64_t)(ids[members[b]].index1 - 1);
+                want[nw++] = ia < ib ? ia << 32 | ib : ib << 32 | ia;
+            }
+    }
+    assert_int_equal(nw, ADDED + 2 * THIRD);
+    qsort(want, (size_t)nw, sizeof *want, cmp_u64);
+    assert_true(w->body_cap > 65536);
+    assert_int_equal(nt_world_step(w, DT), NT_OK);
+    assert_int_equal(w->con_count, nw);
+    for (int k = 0; k < nw; k++)
+        if (w->con[k].key != want[k])
+            fail_msg("contact %d: key %llx, expected %llx", k, (unsigned long long)w->con[k].key,
+                     (unsigned long long)want[k]);
+    free(want);
+    free(used);
+    free(target);
+    free(ids);
+    nt_world_destroy(w);
+}
+
 /* Random mixes of sizes (a twentieth of a cell to NT_MAX_HALF_CELLS), shapes, types
  * and states: the pairs found must hold every pair overlapping or within the base
  * contact margin (0.05 cell), each once, and nothing farther apart than the margin
@@ -791,6 +865,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_broad_phase_vs_brute_force),
+        cmocka_unit_test(test_contact_order_beyond_2_16_bodies),
         cmocka_unit_test(test_kinematic_platform_carries_riders),
         cmocka_unit_test(test_tall_box_walks_over_seams_and_slopes),
         cmocka_unit_test(test_large_bodies_fired_at_every_tile),
