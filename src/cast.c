@@ -590,17 +590,60 @@ static nt_real start_push_depth(const caster *c, const nt_mtv *m, const nt_mtv *
     return m->depth;
 }
 
-/* Start overlap of the given shape with one tile, seams ignored as nt_map_resolve
- * ignores them. Returns the depth (NT_REAL_MAX when every way out is a seam). */
-static NT__INLINE nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
+/* A box's start overlap with a tile (cell, seams mask) provably no deeper than tiny0,
+ * so that the scan finds no contact there, from the first sums of the box routine
+ * (aabb_polygon, aabb_convex, aabb_concave: the same expressions, the same bits): one
+ * at or below 0 separates; one on no seam (never masked) is a candidate, and the depth
+ * is the smallest candidate. Most start cells only touch the box (the floor under it,
+ * a wall beside it): no call. */
+static NT__INLINE int box_start_shallow(const caster *c, int tile, unsigned mask, nt_vec2 l)
 {
-    const nt_map *map = c->map;
-    nt__cell cell = nt__map_in(map, x, y) ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
+    const nt_tile_info *ti = &nt__tiles[tile];
+    const nt_vec2 h = c->obj.half;
+    const nt_real t = c->tiny0;
+    /* Candidate v, masked when mask & bit: no deeper than t. */
+#define SHALLOW(v, bit) ((v) <= t && ((v) <= 0 || !(mask & (bit))))
+    if (ti->cls == NT_CLASS_POLYGON) {
+        nt_real du = l.y + h.y - ti->bounds_min.y;
+        if (SHALLOW(du, 1u << NT_SIDE_TOP)) return 1;
+        nt_real dl = l.x + h.x - ti->bounds_min.x;
+        if (SHALLOW(dl, 1u << NT_SIDE_LEFT)) return 1;
+        nt_real dr = ti->bounds_max.x - (l.x - h.x);
+        if (SHALLOW(dr, 1u << NT_SIDE_RIGHT)) return 1;
+        nt_real dd = ti->bounds_max.y - (l.y - h.y);
+        if (SHALLOW(dd, 1u << NT_SIDE_BOTTOM)) return 1;
+        const nt__tile_geom *g = &nt__geom[tile];
+        if (!g->has_slope) return 0;
+        nt_real ux = g->slope[0], uy = g->slope[1];
+        nt_real ds = g->slope[2] - (ux * l.x + uy * l.y) + h.x * nt__fabs(ux) + h.y * nt__fabs(uy);
+        return ds <= 0 || ds * g->slope[3] <= t;
+    }
+    if (ti->cls != NT_CLASS_CONVEX && ti->cls != NT_CLASS_CONCAVE) return 0;
+    /* narrow.c's to_canon; its right and up candidates are never masked. */
+    int fx = ti->signx < 0, fy = ti->signy > 0;
+    nt_real kx = fx ? 1 - l.x : l.x, ky = fy ? 1 - l.y : l.y;
+    nt_real du = ky + h.y;
+    if (du <= t) return 1;
+    nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
+    if (dr <= t) return 1;
+    nt_real dl = kx + h.x;
+    if (SHALLOW(dl, 1u << (fx ? NT_SIDE_RIGHT : NT_SIDE_LEFT))) return 1;
+    nt_real dd = 1 + h.y - ky;
+    return SHALLOW(dd, 1u << (fy ? NT_SIDE_TOP : NT_SIDE_BOTTOM));
+#undef SHALLOW
+}
+
+/* Start overlap of the given shape with one tile (its cell), seams ignored as
+ * nt_map_resolve ignores them. Returns the depth (NT_REAL_MAX when every way out is a
+ * seam). */
+static NT__INLINE nt_real cell_start_depth(const caster *c, int x, int y, nt__cell cell, nt_vec2 *n)
+{
     *n = nt_v2(0, 0);
     if (cell.tile == NT_TILE_EMPTY) return 0;
     nt_vec2 l = nt_v2(c->p0.x - (nt_real)x, c->p0.y - (nt_real)y);
     nt_mtv m, u;
     if (c->obj.type == NT_SHAPE_AABB) {
+        if (box_start_shallow(c, cell.tile, cell.seams, l)) return 0;
         /* A box's overlap does not depend on the mask (the masked routine is the
          * plain one with mask 0, and separates exactly when it does): the plain test
          * is needed only for a masked tile's depth. */
@@ -622,6 +665,13 @@ static NT__INLINE nt_real tile_start_depth(const caster *c, int x, int y, nt_vec
         return u.depth <= c->tol ? 0 : NT_REAL_MAX;
     }
     return start_push_depth(c, &m, &u, n);
+}
+
+static NT__INLINE nt_real tile_start_depth(const caster *c, int x, int y, nt_vec2 *n)
+{
+    const nt_map *map = c->map;
+    nt__cell cell = nt__map_in(map, x, y) ? map->cells[(size_t)y * (size_t)map->w + (size_t)x] : nt__map_cell(map, x, y);
+    return cell_start_depth(c, x, y, cell, n);
 }
 
 /* One start overlap: deep ends the cast, approaching stops it at 0, else it counts
@@ -696,10 +746,17 @@ static int start_tiles(caster *c, nt_real *rest)
     for (int y = y0; y <= y1 && !decided; y++)
         for (int x = x0; x <= x1; x++) {
             nt_vec2 n;
-            /* An EMPTY cell overlaps nothing: no depth, no contact. */
-            int tile = nt__map_tile(c->map, x, y);
+            /* An EMPTY cell overlaps nothing: no depth, no contact. (The cell read
+             * once; outside the map nt__map_tile's FULL, nt__map_cell's.) */
+            const nt_map *map = c->map;
+            int in = nt__map_in(map, x, y);
+            nt__cell cell;
+            cell.tile = NT_TILE_FULL;
+            if (in) cell = map->cells[(size_t)y * (size_t)map->w + (size_t)x];
+            int tile = cell.tile;
             if (tile == NT_TILE_EMPTY || cell_skipped(c, x, y)) continue;
-            nt_real depth = tile_start_depth(c, x, y, &n);
+            if (!in) cell = nt__map_cell(map, x, y);
+            nt_real depth = cell_start_depth(c, x, y, cell, &n);
             if (cell_one_way(c, x, y) && one_way_ignored(depth, n, c)) continue;
             if (depth <= c->tiny0) continue; /* start_contact: no contact */
             if (keep) {
