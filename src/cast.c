@@ -626,6 +626,19 @@ static NT__INLINE int box_start_shallow(const caster *c, int tile, unsigned mask
     if (du <= t) return 1;
     nt_real dr = ti->cls == NT_CLASS_CONVEX ? 1 + h.x - kx : 1 - (kx - h.x);
     if (dr <= t) return 1;
+    if (ti->cls == NT_CLASS_CONVEX) {
+        /* The arc (resting on a hill): separate beyond it, else a candidate. */
+        nt_real vx = kx - h.x, vy = ky - (1 - h.y);
+        if (vx > 0 && vy < 0) {
+            nt_real d2 = vx * vx + vy * vy;
+            if (d2 >= 1 || 1 - nt__sqrt(d2) <= t) return 1;
+        }
+    } else {
+        /* The hollow (resting in a quarter pipe): separate within it, else a candidate. */
+        nt_real ox = 1 - (kx - h.x), oy = 0 - (ky + h.y);
+        nt_real d2 = ox * ox + oy * oy;
+        if (d2 <= 1 || nt__sqrt(d2) - 1 <= t) return 1;
+    }
     nt_real dl = kx + h.x;
     if (SHALLOW(dl, 1u << (fx ? NT_SIDE_RIGHT : NT_SIDE_LEFT))) return 1;
     nt_real dd = 1 + h.y - ky;
