@@ -12,14 +12,9 @@
  */
 #include "simulation.h"
 
-/* Inline although the compiler would not: the start scan's test of each cell and
- * the hit's contact point (measured: fewer instructions; pieces_entry and
- * start_push_depth took more inline). */
-#if defined(__GNUC__)
-#define NT__INLINE __attribute__((always_inline)) inline
-#else
-#define NT__INLINE inline
-#endif
+/* NT__INLINE (core_internal.h) here: the start scan's test of each cell and the hit's
+ * contact point (measured: fewer instructions; pieces_entry and start_push_depth took
+ * more inline). */
 
 /* A crossing of the segment with a boundary curve, and the curve's normal there:
  * a line's unit normal, or a circle's radius vector (made unit when asked for),

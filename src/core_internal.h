@@ -74,6 +74,13 @@ static inline bool nt__reserve(void *arr_p, int used, int *cap, int need, size_t
 #define NT__NOINLINE
 #define NT__PREFETCH(p) ((void)(p))
 #endif
+/* Inline although the compiler would not (a small function whose call, measured,
+ * costs more than its body; say where it is used). */
+#if defined(__GNUC__)
+#define NT__INLINE __attribute__((always_inline)) inline
+#else
+#define NT__INLINE inline
+#endif
 
 #if NT_REAL_IS_DOUBLE
 #define nt__sqrt sqrt
