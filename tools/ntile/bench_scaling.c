@@ -140,8 +140,13 @@ static void print_phases(int n)
 {
     scene s;
     nt_world_profile prof;
-    if (!scene_make("rain", n, &s)) return;
-    if (ntile_scene_profile(&s, &prof)) {
+    if (!scene_make("rain", n, &s)) {
+        fprintf(stderr, "ntile bench scaling: could not build rain with %d bodies for its phases\n", n);
+        return;
+    }
+    if (!ntile_scene_profile(&s, &prof)) {
+        fprintf(stderr, "ntile bench scaling: could not profile rain with %d bodies\n", n);
+    } else {
         double per = 1e6 / ((double)s.nbodies * s.steps); /* ms in all -> ns per body-step */
         printf("#  rain %6d phases, ns/body-step: pairs %.1f  contacts %.1f  correct %.1f  solve %.1f  move %.1f  "
                "sleep %.1f  (one more run, nt_world_get_profile)\n",
