@@ -106,7 +106,8 @@ static inline nt_real circle_reach(nt_real A) { return (nt_real)1.25 * nt__sqrt(
  * 2 rad; the spare 4e-3 (1 + rad) covers it with room. */
 static void circle_roots(xings *X, const seg *s, nt_real A, nt_real mx, nt_real my, nt_real rad);
 
-/* The test above inline (most circles are far: no call), the roots out of line. */
+/* The test above inline (most circles are far: no call), the roots in a function of
+ * their own. */
 static inline void circle_x_a(xings *X, const seg *s, nt_real A, nt_real reach, nt_real qx, nt_real qy, nt_real rad)
 {
     if (!(rad > 0)) return;
@@ -266,25 +267,23 @@ static int halfplanes_entry(const nt_real (*L)[3], int nl, const seg *s, int one
 
 /* Room for rounding (of the segment's points, of the narrow phase's sums) in the
  * tests below that prove a box clear of a round tile: far more than either. */
-#define HULL_MARGIN (nt_real)1e-4
+#define CLEAR_MARGIN (nt_real)1e-4
 
 /* The box's bounds over the whole segment, in the tile's canonical frame (narrow.c's
  * to_canon: CONVEX's solid the quarter disc around (0,1), CONCAVE's the cell outside
- * the disc around (1,0)), cut to the cell: when that rectangle stays HULL_MARGIN
+ * the disc around (1,0)), cut to the cell: when that rectangle stays CLEAR_MARGIN
  * clear of the solid (CONVEX: its nearest point to the arc's centre beyond 1 + margin;
  * CONCAVE: its farthest point within 1 - margin, so the box's part in the cell lies
  * in the hollow), the box at every piece's middle is clear of it too: no entry,
- * without the curves. (It replaced a test of the segment against box (+) the hull of
- * the solid's bounds and the arc's tangent or chord, which in the character benchmark
- * rejected 155 segments of 294,040 that this one does not, for more than it saved.) */
+ * without the curves. */
 static int round_box_clear(const nt_tile_info *ti, const seg *s, nt_vec2 h)
 {
     nt_real x0 = s->a.x, x1 = s->a.x + s->d.x, y0 = s->a.y, y1 = s->a.y + s->d.y;
     if (ti->signx < 0) x0 = 1 - x0, x1 = 1 - x1;
     if (ti->signy > 0) y0 = 1 - y0, y1 = 1 - y1;
     nt_real xl = nt__max(nt__min(x0, x1) - h.x, 0), yh = nt__min(nt__max(y0, y1) + h.y, 1);
-    if (ti->cls == NT_CLASS_CONVEX) return xl * xl + (1 - yh) * (1 - yh) > (1 + HULL_MARGIN) * (1 + HULL_MARGIN);
-    return (1 - xl) * (1 - xl) + yh * yh < (1 - HULL_MARGIN) * (1 - HULL_MARGIN);
+    if (ti->cls == NT_CLASS_CONVEX) return xl * xl + (1 - yh) * (1 - yh) > (1 + CLEAR_MARGIN) * (1 + CLEAR_MARGIN);
+    return (1 - xl) * (1 - xl) + yh * yh < (1 - CLEAR_MARGIN) * (1 - CLEAR_MARGIN);
 }
 
 /* One of poly_entry's half-planes (index i, gap > 0 inside at the start, den = n . d),
@@ -410,7 +409,7 @@ NT__NOINLINE static int curves_entry(int tile, const seg *s, const nt_shape *obj
          * n . a are computed once, as line_x would compute them for every corner.
          * An edge whose four lines line_x_pre would all drop is skipped (live 0): they
          * lie within |n.x| h.x + |n.y| h.y of the edge's own line, so a start farther
-         * from that line than 2 |n . d|, with HULL_MARGIN of room for the rounding of
+         * from that line than 2 |n . d|, with CLEAR_MARGIN of room for the rounding of
          * the sums (relative to their size), has every |e - n . a| above 2 |n . d|. */
         nt_real enx[4], eny[4], eex[4], eey[4], elen[4], eden[4], ena[4], eoff[4][4];
         int live[4];
@@ -425,7 +424,7 @@ NT__NOINLINE static int curves_entry(int tile, const seg *s, const nt_shape *obj
                 ena[i] = enx[i] * s->a.x + eny[i] * s->a.y;
                 nt_real den2 = 2 * nt__fabs(eden[i]);
                 nt_real gap = nt__fabs((enx[i] * v.x + eny[i] * v.y) - ena[i]) - (nt__fabs(enx[i]) * h.x + nt__fabs(eny[i]) * h.y);
-                live[i] = eden[i] != 0 && gap <= den2 + HULL_MARGIN * (1 + nt__fabs(ena[i]) + den2);
+                live[i] = eden[i] != 0 && gap <= den2 + CLEAR_MARGIN * (1 + nt__fabs(ena[i]) + den2);
             }
         }
         nt_real A = s->d.x * s->d.x + s->d.y * s->d.y, reach = circle_reach(A);

@@ -390,7 +390,8 @@ NT__NOINLINE static int stands_on(const nt_world *w, int32_t i, int32_t j)
     return 0;
 }
 
-/* Test one candidate pair; append a contact when the shapes overlap or nearly touch. */
+/* Test one candidate pair; append its nt__pair to con_new when the shapes overlap or
+ * nearly touch. */
 static inline int test_pair(nt_world *w, int32_t i, int32_t j)
 {
     const nt__body *bi = &w->bodies[i], *bj = &w->bodies[j];

@@ -450,7 +450,7 @@ static inline int nt__cast_shape_ok(nt_shape s, nt_real cell)
 typedef struct nt__cast_start {
     int valid;
     nt_vec2 p0, half; /* where and what was scanned */
-    nt_vec2 pos;      /* p0 in world units (the corner case of tile_start_depth resolves there) */
+    nt_vec2 pos;      /* p0 in world units (start_push_depth's corner case resolves there) */
     int n;
     struct {
         nt_real depth;

@@ -13,7 +13,7 @@ typedef struct bench_opts {
     double min_ms; /* shortest duration of one run (micro-benchmarks) */
     const char *out; /* --out: output file (sweep: CSV; plot: prefix of .csv and .svg) */
     int wide;        /* --wide (world): every error column in one wide row per scene */
-    int profile;     /* --profile (world): the step split by phase under each scene */
+    int profile;     /* --profile (world, scaling): the step split by phase under each scene or body count */
 } bench_opts;
 
 /* A run's spread above this (percent) means the host was busy: a warning on stderr. */

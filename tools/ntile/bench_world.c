@@ -188,6 +188,8 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
         run_result r = bench_run(&engine_ntile, &none, &s, opts->runs, 1);
         nt_world_profile prof;
         int profiled = r.ok && opts->profile && ntile_scene_profile(&s, &prof);
+        if (r.ok && opts->profile && !profiled)
+            fprintf(stderr, "ntile bench world: could not profile '%s' (its phases are left out)\n", name);
         double per = 1e6 / ((double)s.nbodies * s.steps); /* ms in all -> ns per body-step */
         scene_free(&s);
         if (!r.ok) return CLI_USAGE;
