@@ -12,10 +12,6 @@
  */
 #include "simulation.h"
 
-/* NT__INLINE (core_internal.h) here: the start scan's test of each cell and the hit's
- * contact point (measured: fewer instructions; pieces_entry and start_push_depth took
- * more inline). */
-
 /* A crossing of the segment with a boundary curve, and the curve's normal there:
  * a line's unit normal, or a circle's radius vector (made unit when asked for),
  * oriented against the motion when asked for (xing_normal): a piece entered there is
@@ -972,7 +968,9 @@ static void visit_bodies(caster *c, body_pass *bp, nt_vec2 lo, nt_vec2 hi)
 /* ---- input, output ---- */
 
 /* Where the shape (at its centre q, cell units) touches what it hit: its support point
- * against the normal, the middle of the shared stretch when a whole side faces it. */
+ * against the normal, the middle of the shared stretch when a whole side faces it.
+ * (NT__INLINE, as the start scan's cell tests: measured cheaper inline; pieces_entry and
+ * start_push_depth were not.) */
 static NT__INLINE nt_vec2 contact_point(const caster *c, nt_vec2 q)
 {
     const hitrec *b = &c->best;
