@@ -284,8 +284,10 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b) { return pair_filter(
 
 /* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
- * measured along an axis or between closest points, never over-estimated. */
-static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
+ * measured along an axis or between closest points, never over-estimated. The
+ * general form, through nt_collide_shapes: pair_depth's answer for the cases it
+ * leaves here (centres that coincide, a circle's centre in a box, not finite). */
+NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
                       nt_real *depth)
 {
     nt_mtv m;
@@ -326,6 +328,74 @@ static int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t 
         nt_real s = box == a ? (nt_real)1 : (nt_real)(-1);
         *n = nt_v2(s * vx / len, s * vy / len);
         d = cir->half.x - len;
+    }
+    if (d <= -margin) return 0;
+    *depth = d;
+    return 1;
+}
+
+/* pair_depth_any's answer with nt_collide_shapes' arithmetic written out: a box pair
+ * and a pair with a circle apart from the other shape's centre (box) or centre
+ * (circle) measure the overlap test and the gap with one square root. */
+static inline int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
+                             nt_real *depth)
+{
+    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
+    nt_real d;
+    if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) {
+        nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
+        if (!(ox <= 0 || oy <= 0)) { /* nt_collide_aabbs */
+            nt_mtv m;
+            if (a->p.x == b->p.x && a->p.y == b->p.y) {
+                nt__coincident(a, b, ia, ib, n, depth);
+                return 1;
+            }
+            if (oy <= ox || (dx == 0 && dy == 0)) {
+                m.normal = nt_v2(0, dy > 0 ? (nt_real)(-1) : (dy < 0 ? (nt_real)1 : (nt_real)(-1)));
+                m.depth = oy;
+            } else {
+                m.normal = nt_v2(dx > 0 ? (nt_real)(-1) : (nt_real)1, 0);
+                m.depth = ox;
+            }
+            nt__box_axis(a, b, &m);
+            *n = nt_v2(-m.normal.x, -m.normal.y);
+            *depth = m.depth;
+            return 1;
+        }
+        if (ox < oy) {
+            *n = nt_v2(dx > 0 ? (nt_real)1 : (nt_real)(-1), 0);
+            d = ox;
+        } else {
+            *n = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
+            d = oy;
+        }
+    } else if (a->shape == NT_SHAPE_CIRCLE && b->shape == NT_SHAPE_CIRCLE) {
+        nt_real d2 = dx * dx + dy * dy, rs = a->half.x + b->half.x;
+        if (!(d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
+        nt_real len = nt__sqrt(d2);
+        if (!(d2 >= rs * rs) && !(len >= rs)) { /* nt_collide_circles, its normal from b towards a */
+            *n = nt_v2(-((a->p.x - b->p.x) / len), -((a->p.y - b->p.y) / len));
+            *depth = rs - len;
+            return 1;
+        }
+        *n = nt_v2(dx / len, dy / len);
+        d = a->half.x + b->half.x - len;
+    } else {
+        /* Box and circle: closest point of the box to the circle's centre. */
+        const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
+        nt_real cx = cir->p.x - box->p.x, cy = cir->p.y - box->p.y;
+        nt_real vx = cx - nt__clamp(cx, -box->half.x, box->half.x), vy = cy - nt__clamp(cy, -box->half.y, box->half.y);
+        nt_real d2 = vx * vx + vy * vy;
+        if (!(d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
+        nt_real len = nt__sqrt(d2);
+        nt_real s = box == a ? (nt_real)1 : (nt_real)(-1);
+        /* Overlapping or not, the same normal and depth (circle_out_of_box's). */
+        *n = nt_v2(s * vx / len, s * vy / len);
+        d = cir->half.x - len;
+        if (!(len >= cir->half.x)) { /* overlapping */
+            *depth = d;
+            return 1;
+        }
     }
     if (d <= -margin) return 0;
     *depth = d;
