@@ -91,12 +91,43 @@ static nt__contact *sort_contacts(nt__contact *a, nt__contact *tmp, int n)
     return src;
 }
 
-/* The order of n pairs by key (n >= 0), as n indices into src. An LSD radix sort
- * of records; keys are unique, so the order is fully determined. A key's two slots
- * fit in slot_bits each (the bodies' numbers): when they and the index fit in one
- * word, a record is that word, the slots packed into its top 2 * slot_bits bits (the
- * same order as the key) above the index, sorted over the key's bits in as few passes
- * of at most 11 bits as cover them (at most three passes up to 2^16 bodies, four up to
+/* The n records a (distinct; top: all of them or-ed) in increasing order into b, in
+ * one counting pass: by their top bits in use into at most 2048 buckets (about one
+ * per record), then an insertion sort, which moves records within their buckets
+ * only. Returns 0, b unwritten, when the buckets are so uneven that the sort could
+ * cost more than a few moves a record (the radix passes then). count: 2049 words. */
+static int by_buckets(const uint64_t *a, uint64_t *b, int n, uint64_t top, uint32_t *count)
+{
+    int nbits = 1, tbits = 0;
+    while (nbits < 11 && (uint32_t)n >> nbits) nbits++;
+    while (tbits < 64 && top >> tbits) tbits++;
+    const int shift = tbits > nbits ? tbits - nbits : 0;
+    const uint32_t buckets = 1u << nbits;
+    memset(count, 0, (buckets + 1) * sizeof *count);
+    for (int i = 0; i < n; i++) count[(a[i] >> shift) + 1]++;
+    uint64_t cost = 0;
+    for (uint32_t d = 0; d < buckets; d++) {
+        cost += (uint64_t)count[d + 1] * count[d + 1];
+        count[d + 1] += count[d];
+    }
+    if (cost > 8 * (uint64_t)n) return 0;
+    for (int i = 0; i < n; i++) b[count[a[i] >> shift]++] = a[i];
+    for (int i = 1; i < n; i++) {
+        uint64_t r = b[i];
+        int j = i;
+        for (; j > 0 && b[j - 1] > r; j--) b[j] = b[j - 1];
+        b[j] = r;
+    }
+    return 1;
+}
+
+/* The order of n pairs by key (n >= 0), as n indices into src: keys are unique, so
+ * the order is fully determined, whichever sort finds it. A key's two slots fit in
+ * slot_bits each (the bodies' numbers): when they and the index fit in one word, a
+ * record is that word, the slots packed into its top 2 * slot_bits bits (the same
+ * order as the key) above the index, sorted by buckets (by_buckets) or, when the
+ * buckets are uneven, by an LSD radix sort over the key's bits in as few passes of at
+ * most 11 bits as cover them (at most three passes up to 2^16 bodies, four up to
  * 2^22).
  * Else a record is (key, index), sorted a byte a pass, skipping the bytes every key
  * shares. keys holds 4n words. */
@@ -105,14 +136,21 @@ static const uint32_t *sort_by_key(const nt__pair *src, int n, int slot_bits, ui
     if (n <= 0) return (const uint32_t *)keys; /* keys may still be NULL: not read */
     const int bits = 2 * slot_bits, low = 64 - bits; /* the key's bits; below them, the index's */
     if (bits <= 48 && (uint64_t)(n - 1) >> low == 0) {
-        uint64_t *a = keys, *b = keys + (size_t)n;
+        uint64_t *a = keys, *b = keys + (size_t)n, top = 0;
         for (int i = 0; i < n; i++) {
             uint64_t k = src[i].key;
             a[i] = (((k >> 32) << slot_bits | (k & 0xffffffffu)) << low) | (uint32_t)i;
+            top |= a[i];
+        }
+        const uint64_t imask = ((uint64_t)1 << low) - 1u;
+        uint32_t *idx = (uint32_t *)(keys + 2 * (size_t)n); /* past both record arrays */
+        uint32_t count[2049];
+        if (by_buckets(a, b, n, top, count)) {
+            for (int i = 0; i < n; i++) idx[i] = (uint32_t)(b[i] & imask);
+            return idx;
         }
         const int passes = (bits + 10) / 11, digit = (bits + passes - 1) / passes;
         const uint32_t digits = 1u << digit, mask = digits - 1u;
-        uint32_t count[2049];
         for (int shift = low; shift < 64; shift += digit) {
             memset(count, 0, (digits + 1) * sizeof *count);
             for (int i = 0; i < n; i++) count[((a[i] >> shift) & mask) + 1]++;
@@ -122,8 +160,6 @@ static const uint32_t *sort_by_key(const nt__pair *src, int n, int slot_bits, ui
             a = b;
             b = t;
         }
-        const uint64_t imask = ((uint64_t)1 << low) - 1u;
-        uint32_t *idx = (uint32_t *)(keys + 2 * (size_t)n); /* past both record arrays */
         for (int i = 0; i < n; i++) idx[i] = (uint32_t)(a[i] & imask);
         return idx;
     }
