@@ -130,11 +130,6 @@ static inline void link(nt_world *w, int32_t i, int32_t head)
     if (head & 1) rest_count(w, head >> 1, 1);
 }
 
-static inline int occupied(const nt_world *w, int32_t head)
-{
-    return (int)((w->occupied[(uint32_t)head >> 6] >> (head & 63)) & 1u);
-}
-
 static inline void unlink(nt_world *w, int32_t i)
 {
     nt__body *b = &w->bodies[i];
@@ -837,15 +832,25 @@ static nt_status find_pairs(nt_world *w, nt_real dt)
     }
     /* Awake against resting (static and sleeping) bodies: the REST lists of the 9 cells. */
     if (w->grid_rest > 0) {
+        const uint64_t REST_BITS = 0xaaaaaaaaaaaaaaaaull;
         for (int i = 0; i < n; i++) {
             if (!w->rest_near[P[i].cell]) continue;
-            int cx = (int)(P[i].cell % gw), cy = (int)(P[i].cell / gw);
-            for (int y = cy - 1; y <= cy + 1; y++) {
-                if (y < 0 || y >= (int)gh) continue;
-                for (int x = cx - 1; x <= cx + 1; x++) {
-                    if (x < 0 || x >= (int)gw || !occupied(w, 2 * (y * (int)gw + x) + 1)) continue;
-                    for (int32_t j = w->heads[2 * (y * (int)gw + x) + 1]; j >= 0; j = w->bodies[j].gnext, tests++)
-                        if (!test_pair(w, P[i].body, j)) return NT_ERR_OUT_OF_MEMORY;
+            uint32_t cx = P[i].cell % gw, cy = P[i].cell / gw;
+            uint32_t x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < gw ? cx + 1 : cx;
+            uint32_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < gh ? cy + 1 : cy;
+            /* A row's REST lists (odd bits) from the bitmap, a word at a time. */
+            for (uint32_t y = y0; y <= y1; y++) {
+                uint32_t b0 = 2 * (y * gw + x0) + 1, b1 = 2 * (y * gw + x1) + 1;
+                for (uint32_t wd = b0 >> 6; wd <= b1 >> 6; wd++) {
+                    uint64_t bits = w->occupied[wd] & REST_BITS;
+                    if (wd == b0 >> 6) bits &= ~(uint64_t)0 << (b0 & 63);
+                    if (wd == b1 >> 6) bits &= ~(uint64_t)0 >> (63 - (b1 & 63));
+                    while (bits) {
+                        uint32_t head = wd * 64 + (uint32_t)nt__ctz64(bits);
+                        bits &= bits - 1;
+                        for (int32_t j = w->heads[head]; j >= 0; j = w->bodies[j].gnext, tests++)
+                            if (!test_pair(w, P[i].body, j)) return NT_ERR_OUT_OF_MEMORY;
+                    }
                 }
             }
         }
