@@ -647,10 +647,12 @@ static nt_status build_proxies(nt_world *w, int *count)
     return NT_OK;
 }
 
-/* Proxy boxes first, then the full test on the bodies. */
+/* Proxy boxes first, then the full test on the bodies. b is a later proxy of a's
+ * cell or of the cell to its right: b's left edge against a's right one first, the
+ * test that fails most there. */
 static inline int test_proxies(nt_world *w, const nt__proxy *a, const nt__proxy *b)
 {
-    if (!(a->lo.x < b->hi.x && b->lo.x < a->hi.x && a->lo.y < b->hi.y && b->lo.y < a->hi.y)) return 1;
+    if (!(b->lo.x < a->hi.x && a->lo.x < b->hi.x && a->lo.y < b->hi.y && b->lo.y < a->hi.y)) return 1;
     return test_pair(w, a->body, b->body);
 }
 
