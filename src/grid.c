@@ -282,8 +282,8 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b) { return pair_filter(
  * measured along an axis or between closest points, never over-estimated. The
  * general form, through nt_collide_shapes: pair_depth's answer for the cases it
  * leaves here (centres that coincide, a circle's centre in a box, not finite). */
-NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
-                      nt_real *depth)
+NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin,
+                                       nt_vec2 *n, nt_real *depth)
 {
     nt_mtv m;
     if (nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) {
@@ -329,9 +329,9 @@ NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int
     return 1;
 }
 
-/* pair_depth_any's answer with nt_collide_shapes' arithmetic written out: a box pair
- * and a pair with a circle apart from the other shape's centre (box) or centre
- * (circle) measure the overlap test and the gap with one square root. */
+/* pair_depth_any's answer, nt_collide_shapes' arithmetic written out for a box pair
+ * and for a circle whose centre is outside the other box or apart from the other
+ * circle's: one square root for the overlap test and the gap, no call. */
 static inline int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
                              nt_real *depth)
 {
