@@ -1433,6 +1433,66 @@ static void bounce_pass(nt_world *w, const int32_t *index, int nsv)
     }
 }
 
+/* A body contact as the velocity iterations see it: the fields they use, in a compact
+ * array of the contacts with meff > 0 in contact order (in con_tmp, free from the merge
+ * of one step's pairs to the next step's: at least con_count contacts' bytes). The
+ * solver bodies are named by their offsets in w->svel counted in nt_reals, which the
+ * loop adds without a multiply (3 x 2^30 solver bodies fit in 32 bits). */
+typedef struct solver_ct {
+    uint32_t a, b;
+    nt_vec2 n;
+    nt_real ln, lt, bias, meff, friction;
+} solver_ct;
+_Static_assert(sizeof(solver_ct) <= sizeof(nt__contact), "con_tmp holds a solver contact per contact");
+
+static inline nt__svel *svel_at(nt_real *base, uint32_t off) { return (nt__svel *)(void *)(base + off); }
+
+/* One contact's normal impulse in an iteration. */
+static inline void solve_normal(solver_ct *c, nt__svel *a, nt__svel *b)
+{
+    nt_real wa = a->w, wb = b->w;
+    nt_vec2 n = c->n;
+    nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
+    nt_real ln = nt__max_sel(c->ln - (vn - c->bias) * c->meff, 0);
+    nt_real dl = ln - c->ln;
+    c->ln = ln;
+    a->v = nt__sub(a->v, nt__scale(n, dl * wa));
+    b->v = nt__add(b->v, nt__scale(n, dl * wb));
+}
+
+/* The iterations over the body contacts, after the tiles' in each; the friction model's
+ * test out of the loop. */
+static void solve_contacts(nt_world *w, const tile_blocks *tb, solver_ct *sc, int ns)
+{
+    nt__svel *sv = w->svel;
+    nt_real *base = &sv->v.x;
+    int iters = w->def.velocity_iterations;
+    if (w->def.friction_model != NT_FRICTION_COULOMB) {
+        for (int it = 0; it < iters; it++) {
+            solve_tile_blocks(tb, sv);
+            for (int k = 0; k < ns; k++) solve_normal(&sc[k], svel_at(base, sc[k].a), svel_at(base, sc[k].b));
+        }
+        return;
+    }
+    for (int it = 0; it < iters; it++) {
+        solve_tile_blocks(tb, sv);
+        for (int k = 0; k < ns; k++) {
+            solver_ct *c = &sc[k];
+            nt__svel *a = svel_at(base, c->a), *b = svel_at(base, c->b);
+            solve_normal(c, a, b);
+            nt_real wa = a->w, wb = b->w;
+            nt_vec2 t = perp(c->n);
+            nt_real vt = nt__dot(nt__sub(b->v, a->v), t);
+            nt_real lim = c->friction * c->ln;
+            nt_real lt = nt__clamp(c->lt - vt * c->meff, -lim, lim);
+            nt_real dt_ = lt - c->lt;
+            c->lt = lt;
+            a->v = nt__sub(a->v, nt__scale(t, dt_ * wa));
+            b->v = nt__add(b->v, nt__scale(t, dt_ * wb));
+        }
+    }
+}
+
 /* Kept out of nt__step: inlined there, gcc 12 laid out its loops so that rain's solve
  * phase took 55 ns per body-step instead of 43 (alternated --profile runs). */
 NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ratio)
@@ -1507,6 +1567,8 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
     int nsv = 0;
     tile_blocks tb = {w->stile, 0, 0, w->body_cap};
     nt__svel *sv = w->svel;
+    solver_ct *sc = (solver_ct *)(void *)w->con_tmp;
+    int ns = 0;
     for (int k = 0; k < w->con_count; k++) {
         nt__contact *c = &w->con[k];
         if (c->meff <= 0) continue;
@@ -1521,36 +1583,21 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
         a->v = nt__sub(a->v, nt__scale(P, wa));
         b->v = nt__add(b->v, nt__scale(P, wb));
         if (model == NT_FRICTION_N) c->lt = 0; /* N's friction is not carried over */
+        solver_ct *q = &sc[ns++];
+        q->a = (uint32_t)c->sa * (uint32_t)(sizeof *sv / sizeof(nt_real));
+        q->b = (uint32_t)c->sb * (uint32_t)(sizeof *sv / sizeof(nt_real));
+        q->n = n;
+        q->ln = c->ln;
+        q->lt = c->lt;
+        q->bias = c->bias;
+        q->meff = c->meff;
+        q->friction = c->friction;
     }
     if (bounces) bounce_pass(w, index, nsv);
     if (any) {
-        for (int it = 0; it < w->def.velocity_iterations; it++) {
-            /* Tiles first (infinite mass, one-sided): they carry the warm-started weight. */
-            solve_tile_blocks(&tb, sv);
-            for (int k = 0; k < w->con_count; k++) {
-                nt__contact *c = &w->con[k];
-                if (c->meff <= 0) continue;
-                nt__svel *a = &sv[c->sa], *b = &sv[c->sb];
-                nt_real wa = a->w, wb = b->w;
-                nt_vec2 n = c->n;
-                nt_real vn = nt__dot(nt__sub(b->v, a->v), n);
-                nt_real ln = nt__max_sel(c->ln - (vn - c->bias) * c->meff, 0);
-                nt_real dl = ln - c->ln;
-                c->ln = ln;
-                a->v = nt__sub(a->v, nt__scale(n, dl * wa));
-                b->v = nt__add(b->v, nt__scale(n, dl * wb));
-                if (model == NT_FRICTION_COULOMB) {
-                    nt_vec2 t = perp(n);
-                    nt_real vt = nt__dot(nt__sub(b->v, a->v), t);
-                    nt_real lim = c->friction * c->ln;
-                    nt_real lt = nt__clamp(c->lt - vt * c->meff, -lim, lim);
-                    nt_real dt_ = lt - c->lt;
-                    c->lt = lt;
-                    a->v = nt__sub(a->v, nt__scale(t, dt_ * wa));
-                    b->v = nt__add(b->v, nt__scale(t, dt_ * wb));
-                }
-            }
-        }
+        /* Tiles first in each iteration (infinite mass, one-sided): they carry the
+         * warm-started weight. (bounce_pass changes none of the fields copied above.) */
+        solve_contacts(w, &tb, sc, ns);
         /* The tiles, once more after the iterations, then the pass up the stack (which
          * may leave a little velocity into a surface: the move answers it). */
         solve_tile_blocks(&tb, sv);
@@ -1559,9 +1606,12 @@ NT__NOINLINE static void solve_velocities(nt_world *w, nt_real dt, nt_real dt_ra
          * step (a tall column under a heavy impact): the correction after the move
          * looks at their bodies' contacts. */
         nt_real slack = (nt_real)0.5 * w->pair_margin / dt;
-        for (int k = 0; k < w->con_count; k++) {
-            const nt__contact *c = &w->con[k];
+        for (int k = 0, j = 0; k < w->con_count; k++) {
+            nt__contact *c = &w->con[k];
             if (c->meff <= 0) continue;
+            c->ln = sc[j].ln;
+            c->lt = sc[j].lt;
+            j++;
             if (!(nt__dot(nt__sub(sv[c->sb].v, sv[c->sa].v), c->n) < c->bias - slack)) continue;
             /* (Only bodies that move: the correction after the move clears the marks of
              * the awake bodies.) */
