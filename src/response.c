@@ -431,8 +431,10 @@ static inline int open_air_at(const nt_map *m, nt_real ic, nt_vec2 mwh, nt_vec2 
     unsigned near = m->near9[c];
     if (near) {
         unsigned cols = 2u | ((p.x - h.x) * ic < (nt_real)cx ? 1u : 0u) | ((p.x + h.x) * ic >= (nt_real)(cx + 1) ? 4u : 0u);
-        unsigned rows = 2u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 4u : 0u);
-        unsigned covered = ((rows & 1u) ? cols : 0u) | ((rows & 2u) ? cols << 3 : 0u) | ((rows & 4u) ? cols << 6 : 0u);
+        /* The rows as the shifts of the cols mask (1, 8, 64 for rows 0, 1, 2): their
+         * product with it is the 3 x 3 mask (cols is below 8: no carries). */
+        unsigned rows = 8u | ((p.y - h.y) * ic < (nt_real)cy ? 1u : 0u) | ((p.y + h.y) * ic >= (nt_real)(cy + 1) ? 64u : 0u);
+        unsigned covered = cols * rows;
         if (near & covered) return 0;
     }
     *cell = c;
@@ -766,6 +768,7 @@ static void build_contact_lists(nt_world *w)
     for (int k = 0; k < nc; k++) {
         int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
         end[ia] = end[ib] = 0;
+        start[ia] = start[ib] = -1; /* not placed yet */
         lv[ia] = lv[ib] = NT__NO_LEVEL;
     }
     /* Degrees, and the roots of the levels. */
@@ -799,16 +802,11 @@ static void build_contact_lists(nt_world *w)
         int32_t ids[2] = {key_a(w->con[k].key), key_b(w->con[k].key)};
         for (int s2 = 0; s2 < 2; s2++) {
             int32_t i = ids[s2];
-            if (end[i] < 0) continue; /* placed already: -1 - degree */
-            start[i] = sum;
-            sum += end[i];
-            end[i] = -1 - end[i];
+            if (start[i] >= 0) continue; /* placed already */
+            int32_t degree = end[i];
+            start[i] = end[i] = sum;
+            sum += degree;
         }
-    }
-    for (int k = 0; k < nc; k++) {
-        int32_t ia = key_a(w->con[k].key), ib = key_b(w->con[k].key);
-        if (end[ia] < 0) end[ia] = start[ia];
-        if (end[ib] < 0) end[ib] = start[ib];
     }
     for (int k = 0; k < nc; k++) {
         const nt__contact *c = &w->con[k];
