@@ -1202,10 +1202,15 @@ typedef struct tile_blocks {
     int n1, n2, cap;
 } tile_blocks;
 
+/* A solver body by its offset in w->svel counted in nt_reals (the solver's loops then
+ * do no multiply for it; 3 x 2^30 solver bodies fit in 32 bits). */
+static inline nt__svel *svel_at(nt_real *base, uint32_t off) { return (nt__svel *)(void *)(base + off); }
+
 static inline void solve_tile_blocks(const tile_blocks *tb, nt__svel *sv)
 {
-    for (int q = 0; q < tb->n1; q++) solve_tile_single(&tb->st[q], &sv[tb->st[q].s].v);
-    for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &sv[tb->st[q].s].v);
+    nt_real *base = &sv->v.x;
+    for (int q = 0; q < tb->n1; q++) solve_tile_single(&tb->st[q], &svel_at(base, tb->st[q].s)->v);
+    for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &svel_at(base, tb->st[q].s)->v);
 }
 
 /* Gravity, drag and tile contacts of a body in the velocity solve, once (NT__MF_SOLVED,
@@ -1234,7 +1239,7 @@ static inline int32_t solver_body(nt_world *w, int32_t i, int32_t *index, int *n
     sv[s].w = solver_w(b);
     if (sv[s].w > 0 && b->ntc) {
         nt__stile *t = b->ntc == 1 ? &tb->st[tb->n1++] : &tb->st[tb->cap - ++tb->n2];
-        t->s = s;
+        t->s = (uint32_t)s * (uint32_t)(sizeof *sv / sizeof(nt_real));
         t->ntc = b->ntc;
         t->body = i;
         for (int k = 0; k < b->ntc; k++) {
@@ -1433,17 +1438,14 @@ static void bounce_pass(nt_world *w, const int32_t *index, int nsv)
 
 /* A body contact as the velocity iterations see it: the fields they use, in a compact
  * array of the contacts with meff > 0 in contact order (in con_tmp, free from the merge
- * of one step's pairs to the next step's: at least con_count contacts' bytes). The
- * solver bodies are named by their offsets in w->svel counted in nt_reals, which the
- * loop adds without a multiply (3 x 2^30 solver bodies fit in 32 bits). */
+ * of one step's pairs to the next step's: at least con_count contacts' bytes), the
+ * solver bodies as svel_at's offsets. */
 typedef struct solver_ct {
     uint32_t a, b;
     nt_vec2 n;
     nt_real ln, lt, bias, meff, friction;
 } solver_ct;
 _Static_assert(sizeof(solver_ct) <= sizeof(nt__contact), "con_tmp holds a solver contact per contact");
-
-static inline nt__svel *svel_at(nt_real *base, uint32_t off) { return (nt__svel *)(void *)(base + off); }
 
 /* One contact's normal impulse in an iteration. */
 static inline void solve_normal(solver_ct *c, nt__svel *a, nt__svel *b)

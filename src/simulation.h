@@ -150,7 +150,8 @@ typedef struct nt__svel {
 
 /* A solver body's tile contacts as one-sided constraints (see solve_tile_pair, response.c). */
 typedef struct nt__stile {
-    int32_t s, ntc;            /* its nt__svel, its tile contact count (1 or 2) */
+    uint32_t s;                /* its nt__svel, as an offset in nt_reals (solve_tile_blocks) */
+    int32_t ntc;               /* its tile contact count (1 or 2) */
     nt_vec2 n[2];
     nt_real lambda[2];
     int32_t body;
