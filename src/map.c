@@ -337,12 +337,14 @@ static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
  * interior can touch, the masked per-tile candidates, the number of overlapped tiles
  * (`overlapped`), of non-EMPTY tiles in range (`present`), whether every overlapped
  * tile is convex, and lb, the deepest unmasked single-tile depth (no way out of the
- * union is shorter), or -1 when a masked tile overlaps. */
+ * union is shorter), or -1 when a masked tile overlaps. Then lb0 is that depth over
+ * the unmasked tiles, and the masked ones (seams) are listed for masked_depth. */
 typedef struct gathered {
     int x0, y0, x1, y1;
     cand cs[MAX_CANDS];
     int nc, overlapped, present, all_convex;
-    nt_real lb;
+    nt_real lb, lb0;
+    int nm, mx[MAX_CANDS], my[MAX_CANDS], mt[MAX_CANDS]; /* nm > MAX_CANDS: not all listed */
 } gathered;
 
 /* Gather the per-tile candidates of the object at p (seams masked when use_masks);
@@ -362,6 +364,8 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
     g->all_convex = 1;
     g->present = 0;
     g->lb = 0;
+    g->lb0 = 0;
+    g->nm = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             /* Cells in the map are read directly; border cells are computed. */
@@ -371,13 +375,21 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
             g->present++;
             nt_mtv m;
             unsigned mask = use_masks ? cell.seams : 0u;
+            if (mask) {
+                if (g->nm < MAX_CANDS) {
+                    g->mx[g->nm] = x;
+                    g->my[g->nm] = y;
+                    g->mt[g->nm] = t;
+                }
+                g->nm++;
+            }
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
             if (r == NT__SEPARATE) continue;
             overlapped++;
             /* A masked tile's own depth is not known here: the bound is then left to
-             * depth_at, computed only if the certificate below fails. */
+             * masked_depth, computed only if the certificate below fails. */
             if (mask) g->lb = -1;
-            else if (r == NT__PUSH && g->lb >= 0 && m.depth > g->lb) g->lb = m.depth;
+            else if (r == NT__PUSH && m.depth > g->lb0) g->lb0 = m.depth;
             if (nt__tiles[t].cls == NT_CLASS_CONCAVE) g->all_convex = 0;
             if (r == NT__PUSH && g->nc < MAX_CANDS) {
                 cand *c = &g->cs[g->nc++];
@@ -389,7 +401,23 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
             }
         }
     g->overlapped = overlapped;
+    if (g->lb == 0) g->lb = g->lb0;
     return overlapped;
+}
+
+/* depth_at(map, p, shape, h) from what gather found at p: its unmasked tiles'
+ * tests were depth_at's own; the masked tiles are tested again without masks. */
+static nt_real masked_depth(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const gathered *g)
+{
+    if (g->nm > MAX_CANDS) return depth_at(map, p, shape, h);
+    nt_real worst = g->lb0;
+    for (int i = 0; i < g->nm; i++) {
+        nt_mtv m;
+        int x = g->mx[i], y = g->my[i];
+        if (tile_test(g->mt[i], p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > worst)
+            worst = m.depth;
+    }
+    return worst;
 }
 
 /* Residual overlap accepted as "free": rounding of positions, not geometry. */
@@ -399,16 +427,33 @@ static inline nt_real free_tolerance(nt_vec2 p)
     return (nt_real)16 * NT_REAL_EPS * nt__max((nt_real)1, mag);
 }
 
+/* depth_at(map, p, shape, h) <= tol, stopping at the first tile deeper than tol
+ * (depth_at is at least 0: a negative or NaN tol is never met). */
+static int depth_within(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+{
+    if (!(tol >= 0)) return 0;
+    int x0, y0, x1, y1;
+    cell_range(p, h, &x0, &y0, &x1, &y1);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int t = vtile(map, x, y);
+            if (t == NT_TILE_EMPTY) continue;
+            nt_mtv m;
+            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 0;
+        }
+    return 1;
+}
+
 static int is_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
-    return depth_at(map, p, shape, h) <= free_tolerance(p);
+    return depth_within(map, p, shape, h, free_tolerance(p));
 }
 
 /* Free up to rounding only: for searches that converge onto the contact. */
 static int is_free_strict(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
     nt_real mag = nt__max((nt_real)1, nt__max(nt__fabs(p.x), nt__fabs(p.y)));
-    return depth_at(map, p, shape, h) <= (nt_real)8 * NT_REAL_EPS * mag;
+    return depth_within(map, p, shape, h, (nt_real)8 * NT_REAL_EPS * mag);
 }
 
 /* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
@@ -602,7 +647,7 @@ static int best_candidate(const probe *o, nt_vec2 p, const gathered *g, nt_resol
     /* No way out of the union is shorter than the way out of its deepest tile: a
      * candidate below that bound can free the object only within the tolerance of
      * is_free, leaving it slightly inside, so it is not taken. */
-    if (lb < 0) lb = depth_at(map, p, shape, h);
+    if (lb < 0) lb = masked_depth(map, p, shape, h, g);
     *lower = lb;
     return shortest_freeing(o, p, cs, nc, lb, 0, out);
 }
