@@ -87,6 +87,15 @@ static inline int push_out(nt_real depth, nt_real nx, nt_real ny, int sx_flip, i
     return NT__PUSH;
 }
 
+/* A box's four axis pushes out of a polygon tile's bounds, masked by seams. */
+static inline void axis_cands(cands *q, unsigned mask, nt_real du, nt_real dd, nt_real dl, nt_real dr)
+{
+    cand_if(q, !(mask & SIDE_BIT(NT_SIDE_TOP)), du, 0, -1);
+    cand_if(q, !(mask & SIDE_BIT(NT_SIDE_BOTTOM)), dd, 0, 1);
+    cand_if(q, !(mask & SIDE_BIT(NT_SIDE_LEFT)), dl, -1, 0);
+    cand_if(q, !(mask & SIDE_BIT(NT_SIDE_RIGHT)), dr, 1, 0);
+}
+
 /* ---------- box vs convex polygon: separating axes ----------
  * M's face normals are the box's (x, y) and the polygon's; the polygon's axis-aligned
  * faces are covered by its bounds, so the candidates are four axis pushes and the
@@ -102,17 +111,18 @@ static int aabb_polygon(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *o
     if (dl <= 0 || dr <= 0 || du <= 0 || dd <= 0) return NT__SEPARATE;
     cands q;
     q.n = 0;
+    /* The axis pushes listed in each branch: a fixed count lets the compiler keep the
+     * list in registers. */
     if (g->has_slope) {
         /* Decide with the integer normal (exact at touching), measure with the unit one. */
         nt_real ux = g->slope[0], uy = g->slope[1];
         nt_real ds = g->slope[2] - (ux * c.x + uy * c.y) + h.x * nt__fabs(ux) + h.y * nt__fabs(uy);
         if (ds <= 0) return NT__SEPARATE;
         cand(&q, ds * g->slope[3], g->slope[4], g->slope[5]);
+        axis_cands(&q, mask, du, dd, dl, dr);
+        return pick(&q, 0, 0, out);
     }
-    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_TOP)), du, 0, -1);
-    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_BOTTOM)), dd, 0, 1);
-    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_LEFT)), dl, -1, 0);
-    cand_if(&q, !(mask & SIDE_BIT(NT_SIDE_RIGHT)), dr, 1, 0);
+    axis_cands(&q, mask, du, dd, dl, dr);
     return pick(&q, 0, 0, out);
 }
 
