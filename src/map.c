@@ -337,14 +337,13 @@ static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
  * interior can touch, the masked per-tile candidates, the number of overlapped tiles
  * (`overlapped`), of non-EMPTY tiles in range (`present`), whether every overlapped
  * tile is convex, and lb, the deepest unmasked single-tile depth (no way out of the
- * union is shorter), or -1 when a masked tile overlaps. Then lb0 is that depth over
- * the unmasked tiles, and the masked ones (seams) are listed for masked_depth. */
+ * union is shorter), or -1 when a masked tile overlaps; lb0 is that depth over the
+ * tiles without seams (masked_depth adds the others). */
 typedef struct gathered {
     int x0, y0, x1, y1;
     cand cs[MAX_CANDS];
     int nc, overlapped, present, all_convex;
     nt_real lb, lb0;
-    int nm, mx[MAX_CANDS], my[MAX_CANDS], mt[MAX_CANDS]; /* nm > MAX_CANDS: not all listed */
 } gathered;
 
 /* Gather the per-tile candidates of the object at p (seams masked when use_masks);
@@ -365,7 +364,6 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
     g->present = 0;
     g->lb = 0;
     g->lb0 = 0;
-    g->nm = 0;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             /* Cells in the map are read directly; border cells are computed. */
@@ -375,14 +373,6 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
             g->present++;
             nt_mtv m;
             unsigned mask = use_masks ? cell.seams : 0u;
-            if (mask) {
-                if (g->nm < MAX_CANDS) {
-                    g->mx[g->nm] = x;
-                    g->my[g->nm] = y;
-                    g->mt[g->nm] = t;
-                }
-                g->nm++;
-            }
             int r = tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, mask, &m);
             if (r == NT__SEPARATE) continue;
             overlapped++;
@@ -405,18 +395,19 @@ static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
     return overlapped;
 }
 
-/* depth_at(map, p, shape, h) from what gather found at p: its unmasked tiles'
- * tests were depth_at's own; the masked tiles are tested again without masks. */
+/* depth_at(map, p, shape, h) after gather(o, p, 1u, g): the tests of its tiles without
+ * seams were depth_at's own; the others are tested again without masks. */
 static nt_real masked_depth(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, const gathered *g)
 {
-    if (g->nm > MAX_CANDS) return depth_at(map, p, shape, h);
     nt_real worst = g->lb0;
-    for (int i = 0; i < g->nm; i++) {
-        nt_mtv m;
-        int x = g->mx[i], y = g->my[i];
-        if (tile_test(g->mt[i], p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > worst)
-            worst = m.depth;
-    }
+    for (int y = g->y0; y <= g->y1; y++)
+        for (int x = g->x0; x <= g->x1; x++) {
+            nt__cell cell = vcell(map, x, y);
+            if (cell.tile == NT_TILE_EMPTY || !cell.seams) continue;
+            nt_mtv m;
+            if (tile_test(cell.tile, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > worst)
+                worst = m.depth;
+        }
     return worst;
 }
 
