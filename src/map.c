@@ -316,6 +316,18 @@ static inline void cell_range(nt_vec2 p, nt_vec2 h, int *x0, int *y0, int *x1, i
     *y1 = nt__floor_int(p.y + h.y);
 }
 
+/* cell_range for p in [0, 1] x [0, 1] and h in [0, 1/2] (a small object at its local
+ * view's origin): p - h then lies in [-1/2, 1] and p + h in [0, 3/2], where
+ * nt__floor_int is these comparisons. */
+static inline void cell_range_local(nt_vec2 p, nt_vec2 h, int *x0, int *y0, int *x1, int *y1)
+{
+    nt_real lx = p.x - h.x, ly = p.y - h.y;
+    *x0 = (lx >= 1) - (lx < 0);
+    *x1 = p.x + h.x >= 1;
+    *y0 = (ly >= 1) - (ly < 0);
+    *y1 = p.y + h.y >= 1;
+}
+
 /* Largest single-tile depth at p (cell units), no masks: 0 when free. */
 static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
@@ -347,13 +359,14 @@ typedef struct gathered {
 } gathered;
 
 /* Gather the per-tile candidates of the object at p (seams masked when use_masks);
- * returns the number of overlapped tiles. */
+ * returns the number of overlapped tiles. A small object, p in [0, 1] x [0, 1] (the
+ * caller's local view, which is in or near the map). */
 static int gather(const probe *o, nt_vec2 p, unsigned use_masks, gathered *g)
 {
     const mview *map = o->map;
     const nt_shape shape = o->shape;
     const nt_vec2 h = o->h;
-    cell_range(p, h, &g->x0, &g->y0, &g->x1, &g->y1);
+    cell_range_local(p, h, &g->x0, &g->y0, &g->x1, &g->y1);
     const int x0 = g->x0, y0 = g->y0, x1 = g->x1, y1 = g->y1;
     const int ox = map->ox, oy = map->oy;
     int overlapped = 0, inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->map->w && y1 + oy < map->map->h;
@@ -1519,10 +1532,12 @@ bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_
     cell_range(p, h, &x0, &y0, &x1, &y1);
     const int ox = vm->ox, oy = vm->oy;
     int inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->w && y1 + oy < map->h;
+    const nt__cell *cells = map->cells;
+    const size_t stride = (size_t)map->w;
     nt_real deepest = -1;
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
-            nt__cell cell = inside ? map->cells[(size_t)(y + oy) * (size_t)map->w + (size_t)(x + ox)] : vcell(vm, x, y);
+            nt__cell cell = inside ? cells[(size_t)(y + oy) * stride + (size_t)(x + ox)] : vcell(vm, x, y);
             int t = cell.tile;
             if (t == NT_TILE_EMPTY) continue;
             nt_mtv m;
