@@ -1450,8 +1450,12 @@ bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt
         return true;
     }
 
-    if (p.x < (nt_real)VX0(vm) - 2 || p.y < (nt_real)VY0(vm) - 2 || p.x > (nt_real)VX1(vm) + 2 ||
-        p.y > (nt_real)VY1(vm) + 2) {
+    /* p more than 2 cells outside the view's map, decided on the position in cells:
+     * p is its exact difference from the view's origin (to within its rounding up to
+     * 1 in a cell just before 0, where neither side is near), and a view far enough
+     * for a conversion to round is on the far side either way. */
+    nt_real gx = pos.x * ic, gy = pos.y * ic;
+    if (gx < -2 || gy < -2 || gx > (nt_real)map->w + 2 || gy > (nt_real)map->h + 2) {
         /* Far inside the border: come back into the map first. */
         set_escape(&res, p, escape(vm, p, shape, h));
         to_world(&res, vm, cell);
