@@ -174,6 +174,9 @@ extern const nt__poly nt__polys[NT_TILE_COUNT];
 enum { NT__SEPARATE = 0, NT__PUSH = 1, NT__MASKED = 2 };
 int nt__collide_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out);
 int nt__collide_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out);
+/* The same for a tile id known to be valid (a map's cells), without checking it. */
+int nt__collide_map_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out);
+int nt__collide_map_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out);
 /* Distance from c to a CONCAVE tile's solid (0 inside): r minus it bounds a circle's
  * depth from below, without the search for the way out. */
 nt_real nt__concave_gap(int tile, nt_vec2 c);

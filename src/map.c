@@ -303,8 +303,8 @@ typedef struct probe {
 static int tile_test(int tile, nt_real lx, nt_real ly, nt_shape shape, nt_vec2 h, unsigned mask, nt_mtv *m)
 {
     nt_vec2 c = nt_v2(lx, ly);
-    return shape.type == NT_SHAPE_CIRCLE ? nt__collide_tile_circle_m(tile, c, h.x, mask, m)
-                                         : nt__collide_tile_aabb_m(tile, c, h, mask, m);
+    return shape.type == NT_SHAPE_CIRCLE ? nt__collide_map_tile_circle_m(tile, c, h.x, mask, m)
+                                         : nt__collide_map_tile_aabb_m(tile, c, h, mask, m);
 }
 
 /* Cell range the object's interior can touch. */

@@ -653,9 +653,19 @@ int nt__collide_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mt
     return aabb_by_class[nt__tiles[tile].cls](tile, c, h, mask, out);
 }
 
+int nt__collide_map_tile_aabb_m(int tile, nt_vec2 c, nt_vec2 h, unsigned mask, nt_mtv *out)
+{
+    return aabb_by_class[nt__tiles[tile].cls](tile, c, h, mask, out);
+}
+
 int nt__collide_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
 {
     if ((unsigned)tile >= NT_TILE_COUNT) return NT__SEPARATE;
+    return circle_by_class[nt__tiles[tile].cls](tile, c, r, mask, out);
+}
+
+int nt__collide_map_tile_circle_m(int tile, nt_vec2 c, nt_real r, unsigned mask, nt_mtv *out)
+{
     return circle_by_class[nt__tiles[tile].cls](tile, c, r, mask, out);
 }
 
