@@ -1529,11 +1529,18 @@ bool nt__map_glides(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_
     nt_vec2 p;
     const mview view = local_view(map, pos, &p), *vm = &view;
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
-    if (!(h.x <= (nt_real)0.5 && h.y <= (nt_real)0.5) || !nt__finite(p.x) || !nt__finite(p.y)) return false;
+    if (!(h.x <= (nt_real)0.5 && h.y <= (nt_real)0.5)) return false;
+    int x0, y0, x1, y1;
+    /* p lies in [0, 1]^2, at the view's origin, unless the position is beyond the
+     * range of cell indices; only there can it be infinite or NaN. */
+    if (p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1 && h.x >= 0 && h.y >= 0) {
+        cell_range_local(p, h, &x0, &y0, &x1, &y1);
+    } else {
+        if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
+        cell_range(p, h, &x0, &y0, &x1, &y1);
+    }
     lo *= ic;
     hi *= ic;
-    int x0, y0, x1, y1;
-    cell_range(p, h, &x0, &y0, &x1, &y1);
     const int ox = vm->ox, oy = vm->oy;
     int inside = x0 + ox >= 0 && y0 + oy >= 0 && x1 + ox < map->w && y1 + oy < map->h;
     const nt__cell *cells = map->cells;
