@@ -748,7 +748,9 @@ static void tile_features(feats *fs, int t, int X, int Y, nt_shape shape, nt_vec
     }
 }
 
-static nt_real feat_distance(const feat *f, nt_vec2 c)
+/* The distance from c to a curve; inline (NT__INLINE): enumerate and big_features
+ * measure every curve listed, and the call cost more than this. */
+static NT__INLINE nt_real feat_distance(const feat *f, nt_vec2 c)
 {
     if (!f->circle) return nt__fabs(f->nx * c.x + f->ny * c.y - f->e);
     nt_real dx = c.x - f->qx, dy = c.y - f->qy;
