@@ -164,19 +164,20 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
         smax = nt__max(smax, ss);
     }
     if (smax >= r) return NT__SEPARATE; /* also a point (r = 0) on the boundary */
-    /* A face of B is maskable only where it lies on the cell's side. */
-    int open_l = !(x0 == 0 && (mask & SIDE_BIT(NT_SIDE_LEFT)));
-    int open_r = !(x1 == 1 && (mask & SIDE_BIT(NT_SIDE_RIGHT)));
-    int open_t = !(y0 == 0 && (mask & SIDE_BIT(NT_SIDE_TOP)));
-    int open_b = !(y1 == 1 && (mask & SIDE_BIT(NT_SIDE_BOTTOM)));
+    /* A face of B is maskable only where it lies on the cell's side (tested where a
+     * branch needs it). */
+#define OPEN_L (!(x0 == 0 && (mask & SIDE_BIT(NT_SIDE_LEFT))))
+#define OPEN_R (!(x1 == 1 && (mask & SIDE_BIT(NT_SIDE_RIGHT))))
+#define OPEN_T (!(y0 == 0 && (mask & SIDE_BIT(NT_SIDE_TOP))))
+#define OPEN_B (!(y1 == 1 && (mask & SIDE_BIT(NT_SIDE_BOTTOM))))
     if (smax <= 0) {
         cands q;
         q.n = 0;
         if (g->has_slope) cand(&q, r - ss, g->slope[4], g->slope[5]);
-        cand_if(&q, open_t, r - st, 0, -1);
-        cand_if(&q, open_b, r - sb, 0, 1);
-        cand_if(&q, open_l, r - sl, -1, 0);
-        cand_if(&q, open_r, r - sr, 1, 0);
+        cand_if(&q, OPEN_T, r - st, 0, -1);
+        cand_if(&q, OPEN_B, r - sb, 0, 1);
+        cand_if(&q, OPEN_L, r - sl, -1, 0);
+        cand_if(&q, OPEN_R, r - sr, 1, 0);
         return pick(&q, 0, 0, out);
     }
     nt_real px = nt__clamp(c.x, x0, x1), py = nt__clamp(c.y, y0, y1);
@@ -191,17 +192,17 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
         /* Inside one face's slab: the nearest point is on that face. */
         int horiz = px == c.x; /* the nearest face is horizontal (top or bottom) */
         if (horiz) {
-            if (!(st > 0 ? open_t : open_b)) return NT__MASKED;
+            if (!(st > 0 ? OPEN_T : OPEN_B)) return NT__MASKED;
             return push_out(r - nt__max(st, sb), 0, st > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, out);
         }
-        if (!(sl > 0 ? open_l : open_r)) return NT__MASKED;
+        if (!(sl > 0 ? OPEN_L : OPEN_R)) return NT__MASKED;
         return push_out(r - nt__max(sl, sr), sl > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, 0, out);
     } else if (px != c.x && py != c.y) {
         /* A corner of B (a tile vertex). Where one of its two faces is a seam, the
          * neighbour's solid continues the other face past the corner: the corner is
          * no corner of the union, and its push would be a sideways bump. Push off the
          * other face's line instead (as far as the corner's push, or further). */
-        int v_open = sl > 0 ? open_l : open_r, h_open = st > 0 ? open_t : open_b;
+        int v_open = sl > 0 ? OPEN_L : OPEN_R, h_open = st > 0 ? OPEN_T : OPEN_B;
         /* Only when the circle reaches the corner at all. (Up to half a cell the push
          * of a circle clear of the corner is one its neighbour gives anyway, and
          * recorded replays keep it.) */
@@ -211,6 +212,10 @@ static int circle_polygon_general(int tile, nt_vec2 c, nt_real r, unsigned mask,
         if (!v_open) return push_out(r - nt__max(st, sb), 0, st > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, out);
         if (!h_open) return push_out(r - nt__max(sl, sr), sl > 0 ? (nt_real)(-1) : (nt_real)1, 0, 0, 0, out);
     }
+#undef OPEN_L
+#undef OPEN_R
+#undef OPEN_T
+#undef OPEN_B
     nt_real vx = c.x - px, vy = c.y - py;
     nt_real dist = nt__sqrt(vx * vx + vy * vy);
     if (dist >= r) return NT__SEPARATE;
