@@ -985,8 +985,9 @@ static void correct_positions(nt_world *w)
      * last tested gives the same answer again (it depends on their positions only), so
      * later iterations test only the contacts around pushed bodies. */
     const int n = w->con_count;
+    const nt__contact *con = w->con;
     int32_t *pushed_at = w->scratch_a;
-    for (int k = 0; k < n; k++) pushed_at[key_a(w->con[k].key)] = pushed_at[key_b(w->con[k].key)] = -1;
+    for (int k = 0; k < n; k++) pushed_at[key_a(con[k].key)] = pushed_at[key_b(con[k].key)] = -1;
     /* The contacts of this step's pair search (those unparked since come after them)
      * know their depth at the bodies' places: the exact test (push_pair's) finds the
      * same depth or less (of two boxes it takes the lesser axis), so one no deeper than
@@ -996,7 +997,7 @@ static void correct_positions(nt_world *w)
     for (int it = 0; it < iters; it++) {
         int pushed = 0;
         for (int k = 0; k < n; k++) {
-            const nt__contact *c = &w->con[k];
+            const nt__contact *c = &con[k];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
             if (it == 0) {
                 if (k < searched && c->depth <= skin0 && pushed_at[ia] < 0 && pushed_at[ib] < 0) continue;
@@ -1083,12 +1084,15 @@ static void correct_after_move(nt_world *w)
     support sup = {w->level, inq, g, (nt_real)0.5 * nt__sqrt(g2), 1}, *sp = g2 > 0 ? &sup : NULL;
     support fl = {w->level, inq, g, sup.lim, 0}, *spq = g2 > 0 ? &fl : NULL;
     /* A body is in the contacts' lists when it is in a contact; mark those first. */
-    for (int q = 0; q < w->awake_count; q++) {
-        int32_t i = w->awake[q];
+    const int32_t *awake = w->awake;
+    for (int q = 0, na = w->awake_count; q < na; q++) {
+        int32_t i = awake[q];
         visits[i] = 0;
         inq[i] = -1; /* not in a contact */
     }
-    for (int k = 0; k < w->con_count; k++) inq[key_a(w->con[k].key)] = inq[key_b(w->con[k].key)] = 0;
+    const nt__contact *con = w->con;
+    const int32_t *adj = w->adj;
+    for (int k = 0, nc = w->con_count; k < nc; k++) inq[key_a(con[k].key)] = inq[key_b(con[k].key)] = 0;
     /* The marked bodies in awake order (nt__mark_move): pairs beyond the contacts from
      * the broad phase first. */
     for (int word = 0; word < (w->awake_count + 63) / 64; word++) {
@@ -1138,7 +1142,7 @@ static void correct_after_move(nt_world *w)
         inq[i] = 0;
         if (visits[i]++ >= iters) continue;
         for (int32_t e = start[i]; e < end[i]; e++) {
-            const nt__contact *c = &w->con[w->adj[e] < 0 ? -1 - w->adj[e] : w->adj[e]];
+            const nt__contact *c = &con[adj[e] < 0 ? -1 - adj[e] : adj[e]];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
             int which = push_pair(w, ia, ib, &ms, spq);
             for (int s = 0; s < 2; s++) {
