@@ -974,6 +974,15 @@ static void settle_moved(nt_world *w, moved_set *ms, int after_move)
     }
 }
 
+/* correct_positions' push of contact c, noted in pushed_at as `when`; 1 when pushed. */
+static inline int push_contact(nt_world *w, const nt__contact *c, int32_t *pushed_at, int32_t when, moved_set *ms)
+{
+    int32_t ia = key_a(c->key), ib = key_b(c->key);
+    if ((c->flags & NT__CF_SENSOR) || !push_pair(w, ia, ib, ms, NULL)) return 0;
+    pushed_at[ia] = pushed_at[ib] = when;
+    return 1;
+}
+
 static void correct_positions(nt_world *w)
 {
     int iters = w->def.position_iterations;
@@ -994,24 +1003,24 @@ static void correct_positions(nt_world *w)
      * the thinnest skin is not pushed while neither body has moved. */
     const int searched = w->con_dirty ? w->con_sorted : w->con_count;
     const nt_real skin0 = nt__skin_base(w);
-    for (int it = 0; it < iters; it++) {
-        int pushed = 0;
+    /* The first pass and the later ones as loops of their own: their tests differ. */
+    int pushed = 0;
+    for (int k = 0; k < n; k++) {
+        const nt__contact *c = &con[k];
+        int32_t ia = key_a(c->key), ib = key_b(c->key);
+        if (k < searched && c->depth <= skin0 && pushed_at[ia] < 0 && pushed_at[ib] < 0) continue;
+        pushed |= push_contact(w, c, pushed_at, k, &ms);
+    }
+    for (int it = 1; it < iters && pushed; it++) {
+        pushed = 0;
         for (int k = 0; k < n; k++) {
             const nt__contact *c = &con[k];
             int32_t ia = key_a(c->key), ib = key_b(c->key);
-            if (it == 0) {
-                if (k < searched && c->depth <= skin0 && pushed_at[ia] < 0 && pushed_at[ib] < 0) continue;
-            } else {
-                /* Untouched since the test at (it - 1, k)? */
-                int32_t last = (it - 1) * n + k;
-                if (pushed_at[ia] < last && pushed_at[ib] < last) continue;
-            }
-            if (c->flags & NT__CF_SENSOR) continue;
-            if (!push_pair(w, ia, ib, &ms, NULL)) continue;
-            pushed = 1;
-            pushed_at[ia] = pushed_at[ib] = it * n + k;
+            /* Untouched since the test at (it - 1, k)? */
+            int32_t last = (it - 1) * n + k;
+            if (pushed_at[ia] < last && pushed_at[ib] < last) continue;
+            pushed |= push_contact(w, c, pushed_at, it * n + k, &ms);
         }
-        if (!pushed) break;
     }
     settle_moved(w, &ms, 0);
 }
