@@ -882,7 +882,7 @@ static inline int held_by_tile(const nt__body *b, nt_vec2 dir, const support *sp
 /* Push bodies ia and ib apart when they overlap deeper than the skin, by inverse mass.
  * sp: the correction after the move's support rules, or NULL. Returns which moved (1:
  * a, 2: b). */
-static int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, const support *sp)
+static NT__INLINE int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *ms, const support *sp)
 {
     nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
     nt_real wa = solver_w(a), wb = solver_w(b);
