@@ -1687,6 +1687,15 @@ static int sweep_empty(const nt_world *w, nt_vec2 p, nt_vec2 d, nt_vec2 h)
     int x0 = nt__ifloor(lx * ic), x1 = nt__ifloor(hx * ic);
     int y0 = nt__ifloor(ly * ic), y1 = nt__ifloor(hy * ic);
     if ((long)(x1 - x0 + 1) * (long)(y1 - y0 + 1) > 48) return 0;
+    /* Up to 3 x 3 cells with the corner cell's diagonal neighbour in the map (the usual
+     * sweep of a falling body): that cell's near9 mask, whose bits are set for cells
+     * outside the map and those not EMPTY, answers for all of them. */
+    const nt_map *m = w->map;
+    if ((unsigned)(x1 - x0) <= 2u && (unsigned)(y1 - y0) <= 2u && nt__map_in(m, x0 + 1, y0 + 1)) {
+        static const unsigned rows[3] = {1u, 9u, 73u}; /* 1, 1 + 8, 1 + 8 + 64 */
+        unsigned covered = ((1u << (x1 - x0 + 1)) - 1u) * rows[y1 - y0];
+        return !(m->near9[(size_t)(y0 + 1) * (size_t)m->w + (size_t)(x0 + 1)] & covered);
+    }
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++)
             if (nt__map_tile(w->map, x, y) != NT_TILE_EMPTY) return 0;
