@@ -1780,10 +1780,6 @@ typedef struct move_consts {
     nt_real back;              /* move_dynamic's `back` for one substep: dt - dt / 2 */
     int gravity;               /* g is not zero */
     uint32_t map_epoch;
-    /* fly_plain's values for a gravity scale of 1 (the common one): ga = g * 1, ga dt,
-     * ga back, and whether flight_gravity keeps ga (fly1). */
-    nt_vec2 ga1, ga1dt, ga1back;
-    int fly1;
 } move_consts;
 
 static move_consts move_consts_of(const nt_world *w, nt_real dt)
@@ -1802,11 +1798,6 @@ static move_consts move_consts_of(const nt_world *w, nt_real dt)
     mc.back = dt - (nt_real)0.5 * h;
     mc.gravity = mc.g.x != 0 || mc.g.y != 0;
     mc.map_epoch = w->map_epoch;
-    mc.ga1 = nt_v2(mc.g.x * (nt_real)1, mc.g.y * (nt_real)1);
-    mc.ga1dt = nt_v2(mc.ga1.x * dt, mc.ga1.y * dt);
-    mc.ga1back = nt_v2(mc.ga1.x * mc.back, mc.ga1.y * mc.back);
-    mc.fly1 = mc.gravity && nt__fabs(mc.ga1.x) * mc.bend <= mc.maxd && nt__fabs(mc.ga1.y) * mc.bend <= mc.maxd &&
-              (mc.ga1.x != 0 || mc.ga1.y != 0);
     return mc;
 }
 
@@ -2006,21 +1997,8 @@ static inline int plain_body(const nt__body *b, uint64_t mask, uint64_t want)
 static inline int fly_plain(nt_world *w, const move_consts *mc, nt__body *b, unsigned held, unsigned keep, int32_t *cell)
 {
     const nt_real dt = mc->dt;
-    /* ga dt, ga back and flight_gravity's test, of the step for a scale of 1. */
-    nt_vec2 gadt, gaback;
-    int fly;
-    if (b->gravity_scale == 1) {
-        gadt = mc->ga1dt;
-        gaback = mc->ga1back;
-        fly = mc->fly1;
-    } else {
-        nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
-        gadt = nt_v2(ga.x * dt, ga.y * dt);
-        gaback = nt_v2(ga.x * mc->back, ga.y * mc->back);
-        fly = mc->gravity && nt__fabs(ga.x) * mc->bend <= mc->maxd && nt__fabs(ga.y) * mc->bend <= mc->maxd &&
-              (ga.x != 0 || ga.y != 0);
-    }
-    nt_vec2 v = nt_v2(b->v.x + gadt.x, b->v.y + gadt.y);
+    nt_vec2 ga = nt_v2(mc->g.x * b->gravity_scale, mc->g.y * b->gravity_scale);
+    nt_vec2 v = nt_v2(b->v.x + ga.x * dt, b->v.y + ga.y * dt);
     nt_vec2 d = nt__scale(v, dt);
     nt_real d2 = nt__dot(d, d), hmin = nt__min(b->half.x, b->half.y);
     /* Left alone by the speed limit (NaN and overflow are not), in one substep
@@ -2030,7 +2008,9 @@ static inline int fly_plain(nt_world *w, const move_consts *mc, nt__body *b, uns
     if (d2 < (nt_real)0.98 * hmin * hmin ||
         (nt__dot(v, v) <= mc->vfree2 && (!(nt__sqrt(d2) > hmin) || sweep_empty(w, b->p, d, b->half)))) {
         /* flight_gravity (its ga: g * gravity_scale, as above), then fly_free. */
-        if (fly && (b->motion & NT__MF_AIR)) d = nt_v2((v.x - gaback.x) * dt, (v.y - gaback.y) * dt);
+        if (mc->gravity && (b->motion & NT__MF_AIR) && nt__fabs(ga.x) * mc->bend <= mc->maxd &&
+            nt__fabs(ga.y) * mc->bend <= mc->maxd && (ga.x != 0 || ga.y != 0))
+            d = nt_v2((v.x - ga.x * mc->back) * dt, (v.y - ga.y * mc->back) * dt);
         nt_vec2 q = nt_v2(b->p.x + d.x, b->p.y + d.y);
         if (open_air_at(mc->map, mc->ic, mc->mwh, q, b->half, cell)) {
             b->v = v;
