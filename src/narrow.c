@@ -46,26 +46,15 @@ static inline void cand_if(cands *k, int open, nt_real depth, nt_real nx, nt_rea
     cand(k, open ? depth : NT_REAL_MAX, nx, ny);
 }
 
-/* One step of pick's scan (lists hold at most 8), written out: where pick is inlined
- * the list's length is known, and the scan costs no loop. */
-#define PICK_STEP(i)                                                                                                   \
-    if ((i) < k->n) {                                                                                                  \
-        int better = k->d[i] < bd;                                                                                     \
-        bd = better ? k->d[i] : bd;                                                                                    \
-        bi = better ? (i) : bi;                                                                                        \
-    }
-
 static inline int pick(const cands *k, int sx_flip, int sy_flip, nt_mtv *out)
 {
     nt_real bd = k->d[0];
     int bi = 0;
-    PICK_STEP(1)
-    PICK_STEP(2)
-    PICK_STEP(3)
-    PICK_STEP(4)
-    PICK_STEP(5)
-    PICK_STEP(6)
-    PICK_STEP(7)
+    for (int i = 1; i < k->n; i++) {
+        int better = k->d[i] < bd;
+        bd = better ? k->d[i] : bd;
+        bi = better ? i : bi;
+    }
     if (bd == NT_REAL_MAX) return NT__MASKED;
     out->normal.x = sx_flip ? -k->nx[bi] : k->nx[bi];
     out->normal.y = sy_flip ? -k->ny[bi] : k->ny[bi];
