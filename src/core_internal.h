@@ -107,8 +107,8 @@ static inline nt_real nt__max(nt_real a, nt_real b) { return a > b ? a : b; }
 /* nt__max as the SSE max instruction, which is exactly that select (the second
  * operand when they are equal or either is NaN): for comparisons that go either way
  * at random (a contact's impulse clamped at 0), where a compiler may still branch.
- * Only the low lane counts: float operands are broadcast (one shuffle), for which
- * _mm_set_ss took gcc two moves through a general register. */
+ * Only the low lane counts: float operands are broadcast (one shuffle, where gcc
+ * builds _mm_set_ss with two moves through a general register). */
 #if NT_REAL_IS_DOUBLE && defined(__SSE2__)
 #include <emmintrin.h>
 static inline nt_real nt__max_sel(nt_real a, nt_real b) { return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b))); }

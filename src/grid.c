@@ -281,7 +281,8 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b) { return pair_filter(
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
  * measured along an axis or between closest points, never over-estimated. The
  * general form, through nt_collide_shapes: pair_depth's answer for the cases it
- * leaves here (centres that coincide, a circle's centre in a box, not finite). */
+ * leaves here (centres that coincide, a circle's centre in a box, circles not
+ * finite). */
 NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin,
                                        nt_vec2 *n, nt_real *depth)
 {

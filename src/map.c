@@ -349,8 +349,8 @@ static nt_real depth_at(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
  * interior can touch, the masked per-tile candidates, the number of overlapped tiles
  * (`overlapped`), of non-EMPTY tiles in range (`present`), whether every overlapped
  * tile is convex, and lb, the deepest unmasked single-tile depth (no way out of the
- * union is shorter), or -1 when a masked tile overlaps; lb0 is that depth over the
- * tiles without seams (masked_depth adds the others). */
+ * union is shorter), or -1 when a masked tile overlaps; with use_masks, lb0 is that
+ * depth over the tiles without seams (masked_depth adds the others). */
 typedef struct gathered {
     int x0, y0, x1, y1;
     cand cs[MAX_CANDS];

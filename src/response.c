@@ -1228,14 +1228,17 @@ typedef struct tile_blocks {
 } tile_blocks;
 
 /* A solver body by its offset in w->svel counted in nt_reals (the solver's loops then
- * do no multiply for it; 3 x 2^30 solver bodies fit in 32 bits). */
-static inline nt__svel *svel_at(nt_real *base, uint32_t off) { return (nt__svel *)(void *)(base + off); }
+ * do no multiply for it). A world holds at most NT_MAX_BODIES = 2^30 bodies, so the
+ * offsets, below 3 x 2^30, fit in 32 bits. */
+static inline nt__svel *svel_at(nt__svel *sv, uint32_t off)
+{
+    return (nt__svel *)(void *)((char *)sv + (size_t)off * sizeof(nt_real));
+}
 
 static inline void solve_tile_blocks(const tile_blocks *tb, nt__svel *sv)
 {
-    nt_real *base = &sv->v.x;
-    for (int q = 0; q < tb->n1; q++) solve_tile_single(&tb->st[q], &svel_at(base, tb->st[q].s)->v);
-    for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &svel_at(base, tb->st[q].s)->v);
+    for (int q = 0; q < tb->n1; q++) solve_tile_single(&tb->st[q], &svel_at(sv, tb->st[q].s)->v);
+    for (int q = tb->cap - tb->n2; q < tb->cap; q++) solve_tile_pair(&tb->st[q], &svel_at(sv, tb->st[q].s)->v);
 }
 
 /* Gravity, drag and tile contacts of a body in the velocity solve, once (NT__MF_SOLVED,
@@ -1490,12 +1493,11 @@ static inline void solve_normal(solver_ct *c, nt__svel *a, nt__svel *b)
 static void solve_contacts(nt_world *w, const tile_blocks *tb, solver_ct *sc, int ns)
 {
     nt__svel *sv = w->svel;
-    nt_real *base = &sv->v.x;
     int iters = w->def.velocity_iterations;
     if (w->def.friction_model != NT_FRICTION_COULOMB) {
         for (int it = 0; it < iters; it++) {
             solve_tile_blocks(tb, sv);
-            for (int k = 0; k < ns; k++) solve_normal(&sc[k], svel_at(base, sc[k].a), svel_at(base, sc[k].b));
+            for (int k = 0; k < ns; k++) solve_normal(&sc[k], svel_at(sv, sc[k].a), svel_at(sv, sc[k].b));
         }
         return;
     }
@@ -1503,7 +1505,7 @@ static void solve_contacts(nt_world *w, const tile_blocks *tb, solver_ct *sc, in
         solve_tile_blocks(tb, sv);
         for (int k = 0; k < ns; k++) {
             solver_ct *c = &sc[k];
-            nt__svel *a = svel_at(base, c->a), *b = svel_at(base, c->b);
+            nt__svel *a = svel_at(sv, c->a), *b = svel_at(sv, c->b);
             solve_normal(c, a, b);
             nt_real wa = a->w, wb = b->w;
             nt_vec2 t = perp(c->n);

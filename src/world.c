@@ -547,7 +547,7 @@ nt_status nt_body_create(nt_world *w, const nt_body_def *def, nt_body_id *out)
     NT__CHECK_LOCK(w);
     nt_status s = check_body_def(w, def);
     if (s != NT_OK) return s;
-    if (w->body_count >= 0x7ffffffe) return NT_ERR_LIMIT;
+    if (w->body_count >= NT_MAX_BODIES) return NT_ERR_LIMIT;
     int in_grid = def->mask != 0 && def->category != 0;
     if (in_grid) {
         s = nt__grid_enable(w, nt__grid_level(w, def->shape.half));

@@ -54,6 +54,37 @@ static nt_body_id add_body(nt_world *w, nt_body_type type, nt_shape s, nt_vec2 p
 
 /* ---------------------------------------------------------------- bad input */
 
+/* The body limit: at NT_MAX_BODIES bodies nt_body_create refuses (the velocity solver's
+ * 32-bit offsets rely on it) and changes nothing; one below, it accepts. The count is
+ * set directly: 2^30 real bodies would take hundreds of gigabytes. */
+static void test_body_limit(void **state)
+{
+    (void)state;
+    nt_world *world = make_world(8, 8, 1, nt_v2(0, 10), NT_FRICTION_N, false);
+    nt_body_def bd = nt_default_body_def();
+    bd.position = nt_v2(4, 4);
+    bd.shape = nt_shape_aabb((nt_real)0.2, (nt_real)0.2);
+    nt_body_id first;
+    assert_int_equal(nt_body_create(world, &bd, &first), NT_OK);
+    uint64_t before = nt_world_hash(world);
+    int real = world->body_count;
+    world->body_count = NT_MAX_BODIES;
+    nt_body_id id = first;
+    bd.position = nt_v2(2, 2);
+    assert_int_equal(nt_body_create(world, &bd, &id), NT_ERR_LIMIT);
+    assert_true(nt_body_id_equals(id, nt_null_body_id()));
+    assert_int_equal(world->body_count, NT_MAX_BODIES);
+    world->body_count = real;
+    assert_true(nt_world_hash(world) == before);
+    world->body_count = NT_MAX_BODIES - 1;
+    assert_int_equal(nt_body_create(world, &bd, &id), NT_OK);
+    assert_int_equal(world->body_count, NT_MAX_BODIES);
+    assert_int_equal(nt_body_destroy(world, id), NT_OK);
+    world->body_count = real;
+    assert_true(nt_world_hash(world) == before);
+    nt_world_destroy(world);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -864,6 +895,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_body_limit),
         cmocka_unit_test(test_broad_phase_vs_brute_force),
         cmocka_unit_test(test_contact_order_beyond_2_16_bodies),
         cmocka_unit_test(test_kinematic_platform_carries_riders),

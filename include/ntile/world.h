@@ -148,6 +148,10 @@ typedef struct nt_material {
 /// anything, instead of exhausting memory (about 150 MB of contact arrays at the cap).
 #define NT_MAX_CONTACTS (1 << 20)
 
+/// The most bodies a world holds at once (2^30): nt_body_create returns NT_ERR_LIMIT
+/// beyond it. (The velocity solver names its bodies by 32-bit offsets.)
+#define NT_MAX_BODIES (1 << 30)
+
 /// Number of tile materials a world holds; cells name one by index (0 = the default).
 #define NT_MAX_MATERIALS 16
 
@@ -323,7 +327,7 @@ nt_body_def nt_default_body_def(void);
 /// from the map; a body above half a cell not wholly inside the map; a dynamic body's mass
 /// outside [NT_MIN_MASS, NT_MAX_MASS]; a gravity scale beyond NT_MAX_GRAVITY_SCALE), NT_ERR_INVALID_ARGUMENT (size <= 0, circle with
 /// unequal halves, mass <= 0 for a dynamic body, negative drag, friction or bounce out of range, unknown enum),
-/// NT_ERR_LIMIT (2^31 - 2 bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
+/// NT_ERR_LIMIT (NT_MAX_BODIES bodies), NT_ERR_OUT_OF_MEMORY. On failure *out is the null id.
 nt_status nt_body_create(nt_world *world, const nt_body_def *def, nt_body_id *out);
 
 /// Remove a body; bodies touching it wake up.
