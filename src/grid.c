@@ -23,6 +23,7 @@
  * the other) above. */
 #include <string.h>
 #include "simulation.h"
+#include "pair_internal.h"
 
 _Static_assert((1 << (NT__LEVELS - 2)) == NT_MAX_HALF_CELLS, "the coarsest level must hold the largest body");
 
@@ -244,8 +245,8 @@ void nt__grid_update(nt_world *w, int32_t i)
  * overlap is already deep. */
 void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
 {
-    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
-    nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
+    nt__box_overlap q = nt__box_overlaps(a->p, a->half, b->p, b->half);
+    nt_real dx = q.dx, dy = q.dy, ox = q.ox, oy = q.oy;
     nt_real vx = b->v.x - a->v.x, vy = b->v.y - a->v.y;
     /* Time since the overlap began along each axis (infinite when not approaching). */
     int ax = vx * dx < 0, ay = vy * dy < 0;
@@ -280,14 +281,14 @@ bool nt__pair_filter(const nt__body *a, const nt__body *b) { return pair_filter(
 /* Depth (> 0: overlap, < 0: gap) and unit normal from a towards b of two shapes whose
  * boxes are within `margin`. Returns 0 when the gap is at least `margin`. Gaps are
  * measured along an axis or between closest points, never over-estimated. The
- * general form, through nt_collide_shapes: pair_depth's answer for the cases it
- * leaves here (centres that coincide, a circle's centre in a box, circles not
- * finite). */
+ * general form: pair_depth's answer for the cases it leaves here (centres that
+ * coincide, a circle's centre in a box, circles not finite). The arithmetic is
+ * nt_collide_shapes' (pair_internal.h). */
 NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin,
                                        nt_vec2 *n, nt_real *depth)
 {
     nt_mtv m;
-    if (nt_collide_shapes(a->p, nt__body_shape(a), b->p, nt__body_shape(b), &m)) {
+    if (nt__shapes_depth(a->p, a->shape, a->half, b->p, b->shape, b->half, &m)) {
         if (a->p.x == b->p.x && a->p.y == b->p.y) {
             nt__coincident(a, b, ia, ib, n, depth);
             return 1;
@@ -297,104 +298,65 @@ NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int
         *depth = m.depth;
         return 1;
     }
-    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
-    nt_real d;
+    /* Apart: the gap, its normal from a towards b. */
     if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) {
-        nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
-        /* Apart on at least one axis: the axis with the larger gap bounds the distance. */
-        if (ox < oy) {
-            *n = nt_v2(dx > 0 ? (nt_real)1 : (nt_real)(-1), 0);
-            d = ox;
-        } else {
-            *n = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
-            d = oy;
-        }
+        nt__aabbs_depth(a->p, a->half, b->p, b->half, 1, &m);
     } else if (a->shape == NT_SHAPE_CIRCLE && b->shape == NT_SHAPE_CIRCLE) {
-        nt_real len = nt__sqrt(dx * dx + dy * dy);
-        if (len <= 0) return 0;
-        *n = nt_v2(dx / len, dy / len);
-        d = a->half.x + b->half.x - len;
+        if (nt__circles_depth(a->p, a->half.x, b->p, b->half.x, 1, &m) < 0) return 0; /* no direction */
     } else {
-        /* Box and circle: closest point of the box to the circle's centre. */
         const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
-        nt_real cx = cir->p.x - box->p.x, cy = cir->p.y - box->p.y;
-        nt_real vx = cx - nt__clamp(cx, -box->half.x, box->half.x), vy = cy - nt__clamp(cy, -box->half.y, box->half.y);
-        nt_real len = nt__sqrt(vx * vx + vy * vy);
-        if (len <= 0) return 0;
-        nt_real s = box == a ? (nt_real)1 : (nt_real)(-1);
-        *n = nt_v2(s * vx / len, s * vy / len);
-        d = cir->half.x - len;
+        nt__box_near q = nt__box_nearest(cir->p, box->p, box->half);
+        if (q.d2 <= 0) return 0; /* no direction (not finite: measured, as pair_depth's) */
+        nt__circle_box_out(&q, cir->half.x, box == a ? (nt_real)1 : (nt_real)(-1), 1, &m);
     }
-    if (d <= -margin) return 0;
-    *depth = d;
+    *n = m.normal;
+    if (m.depth <= -margin) return 0;
+    *depth = m.depth;
     return 1;
 }
 
-/* pair_depth_any's answer, nt_collide_shapes' arithmetic written out for a box pair
- * and for a circle whose centre is outside the other box or apart from the other
- * circle's: one square root for the overlap test and the gap, no call. */
+/* pair_depth_any's answer, with one square root for the overlap test and the gap and
+ * no call for a box pair and for a circle whose centre is outside the other box or
+ * apart from the other circle's. */
 static inline int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, int32_t ib, nt_real margin, nt_vec2 *n,
                              nt_real *depth)
 {
-    nt_real dx = b->p.x - a->p.x, dy = b->p.y - a->p.y;
-    nt_real d;
+    nt_mtv m;
     if (a->shape == NT_SHAPE_AABB && b->shape == NT_SHAPE_AABB) {
-        nt_real ox = a->half.x + b->half.x - nt__fabs(dx), oy = a->half.y + b->half.y - nt__fabs(dy);
-        if (!(ox <= 0 || oy <= 0)) { /* nt_collide_aabbs */
-            nt_mtv m;
+        if (nt__aabbs_depth(a->p, a->half, b->p, b->half, 1, &m)) {
             if (a->p.x == b->p.x && a->p.y == b->p.y) {
                 nt__coincident(a, b, ia, ib, n, depth);
                 return 1;
-            }
-            if (oy <= ox || (dx == 0 && dy == 0)) {
-                m.normal = nt_v2(0, dy > 0 ? (nt_real)(-1) : (dy < 0 ? (nt_real)1 : (nt_real)(-1)));
-                m.depth = oy;
-            } else {
-                m.normal = nt_v2(dx > 0 ? (nt_real)(-1) : (nt_real)1, 0);
-                m.depth = ox;
             }
             nt__box_axis(a, b, &m);
             *n = nt_v2(-m.normal.x, -m.normal.y);
             *depth = m.depth;
             return 1;
         }
-        if (ox < oy) {
-            *n = nt_v2(dx > 0 ? (nt_real)1 : (nt_real)(-1), 0);
-            d = ox;
-        } else {
-            *n = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
-            d = oy;
-        }
+        *n = m.normal;
     } else if (a->shape == NT_SHAPE_CIRCLE && b->shape == NT_SHAPE_CIRCLE) {
-        nt_real d2 = dx * dx + dy * dy, rs = a->half.x + b->half.x;
-        if (!(d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
-        nt_real len = nt__sqrt(d2);
-        if (!(d2 >= rs * rs) && !(len >= rs)) { /* nt_collide_circles, its normal from b towards a */
-            *n = nt_v2(-((a->p.x - b->p.x) / len), -((a->p.y - b->p.y) / len));
-            *depth = rs - len;
+        int hit = nt__circles_depth(a->p, a->half.x, b->p, b->half.x, 1, &m);
+        if (hit < 0) return pair_depth_any(a, b, ia, ib, margin, n, depth);
+        if (hit) { /* m moves a out of b */
+            *n = nt_v2(-m.normal.x, -m.normal.y);
+            *depth = m.depth;
             return 1;
         }
-        *n = nt_v2(dx / len, dy / len);
-        d = a->half.x + b->half.x - len;
+        *n = m.normal;
     } else {
-        /* Box and circle: closest point of the box to the circle's centre. */
         const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
-        nt_real cx = cir->p.x - box->p.x, cy = cir->p.y - box->p.y;
-        nt_real vx = cx - nt__clamp(cx, -box->half.x, box->half.x), vy = cy - nt__clamp(cy, -box->half.y, box->half.y);
-        nt_real d2 = vx * vx + vy * vy;
-        if (!(d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
-        nt_real len = nt__sqrt(d2);
-        nt_real s = box == a ? (nt_real)1 : (nt_real)(-1);
-        /* Overlapping or not, the same normal and depth (circle_out_of_box's). */
-        *n = nt_v2(s * vx / len, s * vy / len);
-        d = cir->half.x - len;
-        if (!(len >= cir->half.x)) { /* overlapping */
-            *depth = d;
+        nt__box_near q = nt__box_nearest(cir->p, box->p, box->half);
+        if (!(q.d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
+        /* Overlapping or not, the normal from a towards b. */
+        int hit = nt__circle_box_out(&q, cir->half.x, box == a ? (nt_real)1 : (nt_real)(-1), 1, &m);
+        *n = m.normal;
+        if (hit) {
+            *depth = m.depth;
             return 1;
         }
     }
-    if (d <= -margin) return 0;
-    *depth = d;
+    if (m.depth <= -margin) return 0;
+    *depth = m.depth;
     return 1;
 }
 

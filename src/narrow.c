@@ -11,6 +11,7 @@
  * is mirrored into it (boxes and circles are symmetric) and the normal mirrored back.
  */
 #include "core_internal.h"
+#include "pair_internal.h"
 
 #define SIDE_BIT(s) (1u << (s))
 
@@ -683,91 +684,38 @@ bool nt_tile_collide_shape(int tile, nt_vec2 center, nt_shape shape, nt_mtv *out
                                          : nt_tile_collide_aabb(tile, center, shape.half, out);
 }
 
-/* ---------- object pairs ---------- */
+/* ---------- object pairs ----------
+ * The arithmetic is in pair_internal.h, shared with the pair search and the position
+ * correction. */
 
 bool nt_collide_aabbs(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb, nt_mtv *out)
 {
-    nt_real dx = cb.x - ca.x, dy = cb.y - ca.y;
-    nt_real ox = ha.x + hb.x - nt__fabs(dx);
-    nt_real oy = ha.y + hb.y - nt__fabs(dy);
-    if (ox <= 0 || oy <= 0) return false;
-    if (out) {
-        if (oy <= ox || (dx == 0 && dy == 0)) {
-            out->normal = nt_v2(0, dy > 0 ? (nt_real)(-1) : (dy < 0 ? (nt_real)1 : (nt_real)(-1)));
-            out->depth = oy;
-        } else {
-            out->normal = nt_v2(dx > 0 ? (nt_real)(-1) : (nt_real)1, 0);
-            out->depth = ox;
-        }
-    }
+    nt_mtv m;
+    if (!nt__aabbs_depth(ca, ha, cb, hb, 0, &m)) return false;
+    if (out) *out = m;
     return true;
 }
 
 bool nt_collide_circles(nt_vec2 ca, nt_real ra, nt_vec2 cb, nt_real rb, nt_mtv *out)
 {
-    nt_real dx = ca.x - cb.x, dy = ca.y - cb.y;
-    nt_real rs = ra + rb;
-    nt_real d2 = dx * dx + dy * dy;
-    if (d2 >= rs * rs) return false;
-    nt_real d = nt__sqrt(d2);
-    if (d >= rs) return false;
-    if (out) {
-        if (d > 0) out->normal = nt_v2(dx / d, dy / d);
-        else out->normal = nt_v2(0, -1);
-        out->depth = rs - d;
-    }
-    return true;
-}
-
-/* Minimum translation of a circle (centre cc, radius r) out of a box (centre cb,
- * half-size hb). Coincident centres push the circle along -y. */
-static bool circle_out_of_box(nt_vec2 cc, nt_real r, nt_vec2 cb, nt_vec2 hb, nt_mtv *m)
-{
-    nt_real dx = cc.x - cb.x, dy = cc.y - cb.y;
-    nt_real qx = nt__clamp(dx, -hb.x, hb.x), qy = nt__clamp(dy, -hb.y, hb.y);
-    nt_real vx = dx - qx, vy = dy - qy;
-    nt_real d2 = vx * vx + vy * vy;
-    if (d2 > 0) {
-        nt_real d = nt__sqrt(d2);
-        if (d >= r) return false;
-        m->normal = nt_v2(vx / d, vy / d);
-        m->depth = r - d;
-        return true;
-    }
-    /* Centre inside the closed box: leave through the nearest face. */
-    nt_real ox = hb.x - nt__fabs(dx) + r, oy = hb.y - nt__fabs(dy) + r;
-    if (ox <= 0 || oy <= 0) return false;
-    if (oy <= ox || (dx == 0 && dy == 0)) {
-        m->normal = nt_v2(0, dy > 0 ? (nt_real)1 : (nt_real)(-1));
-        m->depth = oy;
-    } else {
-        m->normal = nt_v2(dx < 0 ? (nt_real)(-1) : (nt_real)1, 0);
-        m->depth = ox;
-    }
+    nt_mtv m;
+    if (!nt__circles_depth(ca, ra, cb, rb, 0, &m)) return false;
+    if (out) *out = m;
     return true;
 }
 
 bool nt_collide_aabb_circle(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_real rb, nt_mtv *out)
 {
     nt_mtv m;
-    if (!circle_out_of_box(cb, rb, ca, ha, &m)) return false;
-    if (out) {
-        /* The box leaves the opposite way; coincident centres still push it along -y. */
-        if (ca.x == cb.x && ca.y == cb.y) out->normal = nt_v2(0, -1);
-        else out->normal = nt_v2(-m.normal.x, -m.normal.y);
-        out->depth = m.depth;
-    }
+    if (!nt__aabb_circle_depth(ca, ha, cb, rb, &m)) return false;
+    if (out) *out = m;
     return true;
 }
 
 bool nt_collide_shapes(nt_vec2 pa, nt_shape a, nt_vec2 pb, nt_shape b, nt_mtv *out)
 {
-    if (a.type == NT_SHAPE_AABB && b.type == NT_SHAPE_AABB) return nt_collide_aabbs(pa, a.half, pb, b.half, out);
-    if (a.type == NT_SHAPE_CIRCLE && b.type == NT_SHAPE_CIRCLE)
-        return nt_collide_circles(pa, a.half.x, pb, b.half.x, out);
-    if (a.type == NT_SHAPE_AABB) return nt_collide_aabb_circle(pa, a.half, pb, b.half.x, out);
     nt_mtv m;
-    if (!circle_out_of_box(pa, a.half.x, pb, b.half, &m)) return false;
+    if (!nt__shapes_depth(pa, a.type, a.half, pb, b.type, b.half, &m)) return false;
     if (out) *out = m;
     return true;
 }

@@ -22,6 +22,7 @@
 #include <string.h>
 #include <time.h>
 #include "simulation.h"
+#include "pair_internal.h"
 
 #define skin_at nt__skin
 
@@ -887,20 +888,9 @@ static NT__INLINE int push_pair(nt_world *w, int32_t ia, int32_t ib, moved_set *
     nt__body *a = &w->bodies[ia], *b = &w->bodies[ib];
     nt_real wa = solver_w(a), wb = solver_w(b);
     if (wa + wb <= 0) return 0;
-    /* nt_collide_shapes' cases, called directly. The circle-box case is the box-circle
-     * one reversed (its normal negated back; coincident centres get their own below). */
+    /* nt_collide_shapes' answer (coincident centres get their own below). */
     nt_mtv m;
-    bool hit;
-    if (a->shape == NT_SHAPE_AABB)
-        hit = b->shape == NT_SHAPE_AABB ? nt_collide_aabbs(a->p, a->half, b->p, b->half, &m)
-                                        : nt_collide_aabb_circle(a->p, a->half, b->p, b->half.x, &m);
-    else if (b->shape == NT_SHAPE_CIRCLE)
-        hit = nt_collide_circles(a->p, a->half.x, b->p, b->half.x, &m);
-    else {
-        hit = nt_collide_aabb_circle(b->p, b->half, a->p, a->half.x, &m);
-        m.normal = nt_v2(-m.normal.x, -m.normal.y);
-    }
-    if (!hit) return 0;
+    if (!nt__shapes_depth(a->p, a->shape, a->half, b->p, b->shape, b->half, &m)) return 0;
     if (a->p.x == b->p.x && a->p.y == b->p.y) { /* m.normal moves a out of b: -n */
         nt_vec2 n;
         nt__coincident(a, b, ia, ib, &n, &m.depth);
