@@ -142,12 +142,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     m->blk_empty = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
     m->blk_open = (uint8_t *)nt__alloc((size_t)m->bw * (size_t)m->bh);
     if (!m->cells || !m->open3 || !m->near9 || !m->blk_empty || !m->blk_open) {
-        nt__free(m->cells);
-        nt__free(m->open3);
-        nt__free(m->near9);
-        nt__free(m->blk_empty);
-        nt__free(m->blk_open);
-        nt__free(m);
+        nt_map_destroy(m); /* frees what was allocated (nt__free takes NULL) */
         return NT_ERR_OUT_OF_MEMORY;
     }
     m->w = def->width;
@@ -431,21 +426,39 @@ static inline nt_real free_tolerance(nt_vec2 p)
     return (nt_real)16 * NT_REAL_EPS * nt__max((nt_real)1, mag);
 }
 
-/* depth_at(map, p, shape, h) <= tol, stopping at the first tile deeper than tol
- * (depth_at is at least 0: a negative or NaN tol is never met). */
-static int depth_within(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+/* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
+ * the first such tile.) gap_shortcut, a constant at each call, adds big_free's
+ * concave-gap verdicts: their rounding could settle a borderline case otherwise
+ * than tile_test, so the free tests of small objects keep the plain scan. Inline:
+ * each caller gets its own loop, with the shortcut compiled in or out. */
+static inline int overlaps_beyond(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol, int gap_shortcut)
 {
-    if (!(tol >= 0)) return 0;
     int x0, y0, x1, y1;
     cell_range(p, h, &x0, &y0, &x1, &y1);
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++) {
             int t = vtile(map, x, y);
             if (t == NT_TILE_EMPTY) continue;
+            /* A circle's depth in a tile is at least r minus its centre's distance to
+             * the solid: for CONCAVE tiles (whose way out is a search) that settles
+             * most verdicts. */
+            if (gap_shortcut && shape.type == NT_SHAPE_CIRCLE && nt__tiles[t].cls == NT_CLASS_CONCAVE) {
+                nt_real gap = nt__concave_gap(t, nt_v2(p.x - (nt_real)x, p.y - (nt_real)y));
+                if (gap >= h.x) continue;
+                if (h.x - gap > tol) return 1;
+            }
             nt_mtv m;
-            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 0;
+            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 1;
         }
-    return 1;
+    return 0;
+}
+
+/* depth_at(map, p, shape, h) <= tol (depth_at is at least 0: a negative or NaN tol
+ * is never met). */
+static int depth_within(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
+{
+    if (!(tol >= 0)) return 0;
+    return !overlaps_beyond(map, p, shape, h, tol, 0);
 }
 
 static int is_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
@@ -460,34 +473,10 @@ static int is_free_strict(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h
     return depth_within(map, p, shape, h, (nt_real)8 * NT_REAL_EPS * mag);
 }
 
-/* Is some tile overlapped deeper than tol at p? (depth_at(...) > tol, stopping at
- * the first such tile.) */
-static int overlaps_beyond(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h, nt_real tol)
-{
-    int x0, y0, x1, y1;
-    cell_range(p, h, &x0, &y0, &x1, &y1);
-    for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++) {
-            int t = vtile(map, x, y);
-            if (t == NT_TILE_EMPTY) continue;
-            /* A circle's depth in a tile is at least r minus its centre's distance to
-             * the solid: for CONCAVE tiles (whose way out is a search) that settles
-             * most verdicts. */
-            if (shape.type == NT_SHAPE_CIRCLE && nt__tiles[t].cls == NT_CLASS_CONCAVE) {
-                nt_real gap = nt__concave_gap(t, nt_v2(p.x - (nt_real)x, p.y - (nt_real)y));
-                if (gap >= h.x) continue;
-                if (h.x - gap > tol) return 1;
-            }
-            nt_mtv m;
-            if (tile_test(t, p.x - (nt_real)x, p.y - (nt_real)y, shape, h, 0, &m) == NT__PUSH && m.depth > tol) return 1;
-        }
-    return 0;
-}
-
-/* is_free's verdict, by the early-out scan. */
+/* is_free's verdict, by the early-out scan with the concave-gap shortcut. */
 static int big_free(const mview *map, nt_vec2 p, nt_shape shape, nt_vec2 h)
 {
-    return !overlaps_beyond(map, p, shape, h, free_tolerance(p));
+    return !overlaps_beyond(map, p, shape, h, free_tolerance(p), 1);
 }
 
 static int probe_free(const probe *o, nt_vec2 p) { return big_free(o->map, p, o->shape, o->h); }
