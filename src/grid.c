@@ -245,7 +245,7 @@ void nt__grid_update(nt_world *w, int32_t i)
  * overlap is already deep. */
 void nt__box_axis(const nt__body *a, const nt__body *b, nt_mtv *m)
 {
-    nt__box_overlap q = nt__box_overlaps(a->p, a->half, b->p, b->half);
+    nt__box_pair q = nt__box_overlaps(a->p, a->half, b->p, b->half);
     nt_real dx = q.dx, dy = q.dy, ox = q.ox, oy = q.oy;
     nt_real vx = b->v.x - a->v.x, vy = b->v.y - a->v.y;
     /* Time since the overlap began along each axis (infinite when not approaching). */
@@ -305,8 +305,8 @@ NT__NOINLINE static int pair_depth_any(const nt__body *a, const nt__body *b, int
         if (nt__circles_depth(a->p, a->half.x, b->p, b->half.x, 1, &m) < 0) return 0; /* no direction */
     } else {
         const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
-        nt__box_near q = nt__box_nearest(cir->p, box->p, box->half);
-        if (q.d2 <= 0) return 0; /* no direction (not finite: measured, as pair_depth's) */
+        nt__box_point q = nt__box_nearest(cir->p, box->p, box->half);
+        if (q.d2 <= 0) return 0; /* d2 = 0: no direction (a NaN d2 is measured: NaN depth) */
         nt__circle_box_out(&q, cir->half.x, box == a ? (nt_real)1 : (nt_real)(-1), 1, &m);
     }
     *n = m.normal;
@@ -345,7 +345,7 @@ static inline int pair_depth(const nt__body *a, const nt__body *b, int32_t ia, i
         *n = m.normal;
     } else {
         const nt__body *box = a->shape == NT_SHAPE_AABB ? a : b, *cir = a->shape == NT_SHAPE_AABB ? b : a;
-        nt__box_near q = nt__box_nearest(cir->p, box->p, box->half);
+        nt__box_point q = nt__box_nearest(cir->p, box->p, box->half);
         if (!(q.d2 > 0)) return pair_depth_any(a, b, ia, ib, margin, n, depth);
         /* Overlapping or not, the normal from a towards b. */
         int hit = nt__circle_box_out(&q, cir->half.x, box == a ? (nt_real)1 : (nt_real)(-1), 1, &m);

@@ -160,6 +160,7 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     return NT_OK;
 }
 
+/* Also frees nt_map_create's partial map: it must touch only these arrays. */
 void nt_map_destroy(nt_map *map)
 {
     if (!map) return;

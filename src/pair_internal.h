@@ -2,27 +2,23 @@
  * the public pair routines (narrow.c), of the pair search (grid.c, pair_depth: a
  * contact's depth, > 0 overlap, < 0 gap) and of the position correction (response.c,
  * push_pair), in one place so that their answers cannot drift apart. Inline: the hot
- * callers make no call, and a constant `gap` leaves out what a caller does not use
- * (the gap of shapes apart, or the early exits before a square root).
- * Not installed. */
+ * callers make no call, and a constant `gap` leaves out what a caller does not need:
+ * gap = 0 the gap of shapes apart, gap = 1 the exit before the square root (a gap
+ * needs the root). Not installed. */
 #ifndef NT_PAIR_INTERNAL_H
 #define NT_PAIR_INTERNAL_H
 
 #include "core_internal.h"
 
-#if defined(__GNUC__)
-#pragma GCC visibility push(hidden)
-#endif
-
 /* Two boxes (centres ca, cb, half-sizes ha, hb): the offset d = cb - ca and the
  * overlaps along x and y (both > 0: overlapping). */
-typedef struct nt__box_overlap {
+typedef struct nt__box_pair {
     nt_real dx, dy, ox, oy;
-} nt__box_overlap;
+} nt__box_pair;
 
-static NT__INLINE nt__box_overlap nt__box_overlaps(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb)
+static NT__INLINE nt__box_pair nt__box_overlaps(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb)
 {
-    nt__box_overlap q;
+    nt__box_pair q;
     q.dx = cb.x - ca.x;
     q.dy = cb.y - ca.y;
     q.ox = ha.x + hb.x - nt__fabs(q.dx);
@@ -36,7 +32,7 @@ static NT__INLINE nt__box_overlap nt__box_overlaps(nt_vec2 ca, nt_vec2 ha, nt_ve
  * distance from below) and m->normal points from a towards b along that axis. */
 static NT__INLINE int nt__aabbs_depth(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec2 hb, int gap, nt_mtv *m)
 {
-    nt__box_overlap q = nt__box_overlaps(ca, ha, cb, hb);
+    nt__box_pair q = nt__box_overlaps(ca, ha, cb, hb);
     nt_real dx = q.dx, dy = q.dy, ox = q.ox, oy = q.oy;
     if (ox <= 0 || oy <= 0) {
         if (!gap) return 0;
@@ -61,8 +57,9 @@ static NT__INLINE int nt__aabbs_depth(nt_vec2 ca, nt_vec2 ha, nt_vec2 cb, nt_vec
 
 /* nt_collide_circles (centres ca, cb, radii ra, rb). Overlapping: returns 1, m the
  * push of a out of b (coincident centres: along -y). Apart: returns 0; with gap,
- * m->depth is minus the gap and m->normal points from a towards b. With gap, centres
- * that coincide or are not finite give no direction: returns -1, m unset. The normals
+ * m->depth is minus the gap and m->normal points from a towards b. With gap, an
+ * offset whose |ca - cb|^2 is not > 0 (coincident centres, an underflow, NaN) gives
+ * no direction: returns -1, m unset. The normals
  * are the quotients of ca - cb and of cb - ca as written, so that zeros keep their
  * signs. */
 static NT__INLINE int nt__circles_depth(nt_vec2 ca, nt_real ra, nt_vec2 cb, nt_real rb, int gap, nt_mtv *m)
@@ -90,13 +87,13 @@ static NT__INLINE int nt__circles_depth(nt_vec2 ca, nt_real ra, nt_vec2 cb, nt_r
 /* A circle's centre cc and a box (centre cb, half-size hb): the centre's offset d from
  * the box's, and its offset v from the box's nearest point (0 inside the closed box),
  * with |v|^2. */
-typedef struct nt__box_near {
+typedef struct nt__box_point {
     nt_real dx, dy, vx, vy, d2;
-} nt__box_near;
+} nt__box_point;
 
-static NT__INLINE nt__box_near nt__box_nearest(nt_vec2 cc, nt_vec2 cb, nt_vec2 hb)
+static NT__INLINE nt__box_point nt__box_nearest(nt_vec2 cc, nt_vec2 cb, nt_vec2 hb)
 {
-    nt__box_near q;
+    nt__box_point q;
     q.dx = cc.x - cb.x;
     q.dy = cc.y - cb.y;
     q.vx = q.dx - nt__clamp(q.dx, -hb.x, hb.x);
@@ -109,7 +106,7 @@ static NT__INLINE nt__box_near nt__box_nearest(nt_vec2 cc, nt_vec2 cb, nt_vec2 h
  * overlapping, returns 1; otherwise minus the gap, returns 0) and m->normal = s v / |v|
  * (s = 1: the way the circle leaves the box; -1: the way the box leaves the circle).
  * Without gap, m is set only when overlapping. */
-static NT__INLINE int nt__circle_box_out(const nt__box_near *q, nt_real r, nt_real s, int gap, nt_mtv *m)
+static NT__INLINE int nt__circle_box_out(const nt__box_point *q, nt_real r, nt_real s, int gap, nt_mtv *m)
 {
     nt_real d = nt__sqrt(q->d2);
     int hit = !(d >= r);
@@ -119,9 +116,9 @@ static NT__INLINE int nt__circle_box_out(const nt__box_near *q, nt_real r, nt_re
     return hit;
 }
 
-/* The centre inside the closed box (q->d2 = 0, or not finite): the circle leaves
+/* The centre inside the closed box (q->d2 = 0, or NaN): the circle leaves
  * through the nearest face, along -y for coincident centres. */
-static NT__INLINE int nt__circle_box_in(const nt__box_near *q, nt_real r, nt_vec2 hb, nt_mtv *m)
+static NT__INLINE int nt__circle_box_in(const nt__box_point *q, nt_real r, nt_vec2 hb, nt_mtv *m)
 {
     nt_real dx = q->dx, dy = q->dy;
     nt_real ox = hb.x - nt__fabs(dx) + r, oy = hb.y - nt__fabs(dy) + r;
@@ -140,7 +137,7 @@ static NT__INLINE int nt__circle_box_in(const nt__box_near *q, nt_real r, nt_vec
  * half-size hb): returns 1 and sets m when they overlap. */
 static NT__INLINE int nt__circle_box_depth(nt_vec2 cc, nt_real r, nt_vec2 cb, nt_vec2 hb, nt_mtv *m)
 {
-    nt__box_near q = nt__box_nearest(cc, cb, hb);
+    nt__box_point q = nt__box_nearest(cc, cb, hb);
     if (q.d2 > 0) return nt__circle_box_out(&q, r, 1, 0, m);
     return nt__circle_box_in(&q, r, hb, m);
 }
@@ -164,9 +161,5 @@ static NT__INLINE int nt__shapes_depth(nt_vec2 pa, int ta, nt_vec2 ha, nt_vec2 p
     if (ta == NT_SHAPE_AABB) return nt__aabb_circle_depth(pa, ha, pb, hb.x, m);
     return nt__circle_box_depth(pa, ha.x, pb, hb, m);
 }
-
-#if defined(__GNUC__)
-#pragma GCC visibility pop
-#endif
 
 #endif /* NT_PAIR_INTERNAL_H */
