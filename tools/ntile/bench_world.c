@@ -17,7 +17,7 @@
 
 /* ---------- the targets ----------
  *
- * The stated targets of the world scenes (README "Benchmarks", issues 20 and 22; the
+ * The stated targets of the world scenes (README "Benchmarks"; the
  * newest where they differ): wall time per body-step, the body-overlap, energy and
  * analytic errors, and the tiles (penetration, tunnels, ghost bumps) everywhere. */
 
@@ -134,7 +134,7 @@ int bench_world(const bench_opts *opts, int nargs, char **args)
         bench_print_header("scene");
     } else {
         printf("# ns/body-step: median of the timed runs; spread: (max - min) / 2 / median. Each check against its\n"
-               "# target (README \"Benchmarks\", issues 20 and 22); every error column: --wide; phases: --profile.\n");
+               "# targets: README \"Benchmarks\"; every error column: --wide; phases: --profile.\n");
         print_narrow_header();
     }
     fflush(stdout);
