@@ -82,7 +82,7 @@ check_run() {
 platformer_done='/^platformer: reached the goal at tick / { found = 1; gsub(/,/, ""); n = $7; y = $9; f = $11; s = $13; u = $16 }
     END { exit !(found && n > 0 && n <= 1500 && y > 311.99 && y < 312.05 && f == 1 && s > 0 && u >= 1) }'
 # The README's example drops a box onto a floor whose top is at y = 480; the box's
-# half-height is 6: it rests a skin deep. (It does not print on_floor.)
+# half-height is 6: it rests a skin deep, on_floor 1 (a line without on_floor passes it).
 box_rests='/^box rests at / { found = 1; x = $4; y = $5; f = NF < 7 ? 1 : $7 }
     END { exit !(found && x > 99.99 && x < 100.01 && y > 473.99 && y < 474.05 && f == 1) }'
 

@@ -115,7 +115,8 @@ typedef struct nt_game_state {
     bool wall_left, wall_right; ///< the player touched a wall after the last step
 } nt_game_state;
 
-/// Build a game from a level (which must outlive the game). On failure *out is NULL.
+/// Build a game from a level (which must outlive the game); def NULL: nt_default_game_def().
+/// On failure *out is NULL.
 /// Bodies on paths start where their path puts them at time 0: one above half a cell
 /// must lie wholly inside the map there (else NT_ERR_OUT_OF_RANGE, as the world
 /// requires); so must a large body a spawner creates (nt_game_step fails otherwise).

@@ -32,7 +32,7 @@ extern "C" {
 
 /// Smallest and largest cell size (world units; NT_ERR_OUT_OF_RANGE outside, maps,
 /// worlds and levels alike): speeds, gravity and squared distances in cell units stay
-/// well inside float's range (a denormal cell size put bodies outside the map).
+/// well inside float's range (a denormal cell size would put bodies outside the map).
 #define NT_MIN_CELL_SIZE 1e-3f
 #define NT_MAX_CELL_SIZE 1e6f
 

@@ -138,7 +138,7 @@ typedef struct nt_material {
 /// Each component of the world's gravity must lie in [-NT_MAX_GRAVITY, NT_MAX_GRAVITY]
 /// world units / s^2, and a body's gravity scale in [-NT_MAX_GRAVITY_SCALE,
 /// NT_MAX_GRAVITY_SCALE] (else NT_ERR_OUT_OF_RANGE): their product times NT_MAX_DT and
-/// its square stay finite in float (huge finite gravity used to launch resting bodies).
+/// its square stay finite in float (a huge finite gravity would launch resting bodies).
 #define NT_MAX_GRAVITY 1e12f
 #define NT_MAX_GRAVITY_SCALE 1e6f
 
@@ -497,7 +497,7 @@ nt_sensor_events nt_world_get_sensor_events(const nt_world *world);
 /// are not named in `ignore` and that `accept` (when set) returns true for. Bodies with
 /// a zero mask or category are not in the broad phase and are never reported. Start
 /// from nt_default_query_filter(), or name only mask and tiles in an initializer: the
-/// fields after `tiles` are then zero and the filter behaves as it always did. Used by
+/// fields after `tiles` are then zero (no ignored body, no callback, one-way cells honoured). Used by
 /// ray casts, point and box queries and shape casts (a moving body names itself in
 /// `ignore`, so that it never hits itself).
 typedef struct nt_query_filter {
