@@ -497,9 +497,9 @@ nt_sensor_events nt_world_get_sensor_events(const nt_world *world);
 /// are not named in `ignore` and that `accept` (when set) returns true for. Bodies with
 /// a zero mask or category are not in the broad phase and are never reported. Start
 /// from nt_default_query_filter(), or name only mask and tiles in an initializer: the
-/// fields after `tiles` are then zero (no ignored body, no callback, one-way cells honoured). Used by
-/// ray casts, point and box queries and shape casts (a moving body names itself in
-/// `ignore`, so that it never hits itself).
+/// fields after `tiles` are then zero (no ignored body, no callback, one-way cells
+/// honoured). Used by ray casts, point and box queries and shape casts (a moving body
+/// names itself in `ignore`, so that it never hits itself).
 typedef struct nt_query_filter {
     uint32_t mask;
     bool tiles;       ///< ray casts and shape casts: include the tiles
