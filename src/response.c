@@ -574,8 +574,9 @@ static int skin_deep(const nt_world *w, const nt__body *b, const nt_resolution *
  * remembered contact along one normal n, not moving into it, no one-way tile in the
  * world): when at p every tile it overlaps holds it along n within the band about the
  * skin, that is the resolution (one contact, no push), found without searching for the
- * way out of the tiles. False: resolve. */
-static int glide(const nt_world *w, const nt__body *b, nt_vec2 p, nt_resolution *res)
+ * way out of the tiles, and stored here as store_tile_contacts(w, b, res, 1) would
+ * store it. False: resolve (the body unchanged). */
+static int glide(const nt_world *w, nt__body *b, nt_vec2 p)
 {
     if (!b->ntc || w->oneway_count || (b->flags & NT__BF_LARGE)) return 0;
     nt_vec2 n = b->tc[0].n;
@@ -585,10 +586,21 @@ static int glide(const nt_world *w, const nt__body *b, nt_vec2 p, nt_resolution 
     if (nt__dot(b->v, n) < 0) return 0;
     nt_real skin = body_skin(w, b), tol = SKIN_BAND * skin;
     nt_shape s = nt__body_shape(b);
-    if (!nt__map_glides(w->map, p, &s, n, skin - tol, skin + tol, &res->contacts[0])) return 0;
-    res->push = nt_v2(0, 0);
-    res->contact_count = 1;
-    res->status = NT_OK;
+    nt_tile_contact c;
+    if (!nt__map_glides(w->map, p, &s, n, skin - tol, skin + tol, &c)) return 0;
+    /* store_tile_contacts' answer, known here: the contact's tile is POLYGON and its
+     * normal within 0.999 of tc[0].n (nt__map_glides' tests: the same products, in
+     * the same order), so it keeps tc[0].n, and then tc[1].n when there are two (within
+     * 0.999 of tc[0].n: tested above); its answered normal is the last remembered one. */
+    nt__tile_ct *t = &b->tc[0];
+    t->n = b->tc[b->ntc - 1].n;
+    b->ntc = 1;
+    t->depth = c.depth;
+    t->lambda = 0;
+    t->cx = c.cell_x;
+    t->cy = c.cell_y;
+    t->material = (uint8_t)cell_material_index(w, t->cx, t->cy);
+    t->solved = 1;
     return 1;
 }
 
@@ -1884,8 +1896,8 @@ NT__NOINLINE static int move_dynamic(nt_world *w, const move_consts *mc, int32_t
         b->p.y += d.y;
         nt_vec2 p1 = b->p;
         nt_resolution res;
-        if (n == 1 && !flying && !shifted && glide(w, b, b->p, &res)) {
-            store_tile_contacts(w, b, &res, 1);
+        if (n == 1 && !flying && !shifted && glide(w, b, b->p)) {
+            /* (glide stored its contact) */
         } else if (!resolve_body(w, b, p0, b->p, &res)) {
             b->ntc = 0;
         } else if (flying && toi_bounce(w, b, p0, d, &res, ga, dt - ((nt_real)s + 1) * h, h, &hit)) {
