@@ -193,6 +193,8 @@ typedef struct nt__cell {
 struct nt_map {
     int w, h;
     nt_real cell, inv_cell;
+    /* (nt_real)w + 2 and (nt_real)h + 2: nt__map_resolve's bound of "far outside". */
+    nt_real far_w, far_h;
     nt__cell *cells;
     /* Bit per cell: the cell and its 8 neighbours are all EMPTY cells of the map, so
      * an object centred in it (at most half a cell) touches nothing. Small enough to

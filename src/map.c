@@ -149,6 +149,8 @@ nt_status nt_map_create(const nt_map_def *def, nt_map **out)
     m->h = def->height;
     m->cell = def->cell_size;
     m->inv_cell = 1 / def->cell_size;
+    m->far_w = (nt_real)m->w + 2;
+    m->far_h = (nt_real)m->h + 2;
     memset(m->cells, 0, n * sizeof *m->cells);
     for (int y = 0; y < m->h; y++)
         for (int x = 0; x < m->w; x++)
@@ -1426,16 +1428,18 @@ bool nt_map_resolve(const nt_map *map, nt_vec2 pos, nt_shape shape, nt_resolutio
 bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt_resolution *out)
 {
     const nt_shape shape = *shape_p;
-    nt_resolution res;
-    memset(&res, 0, sizeof res);
-    *out = res;
+    memset(out, 0, sizeof *out);
     nt_real ic = map->inv_cell, cell = map->cell;
-    if (!nt__finite(pos.x) || !nt__finite(pos.y)) return false;
     nt_vec2 p;
     const mview view = local_view(map, pos, &p), *vm = &view;
     nt_vec2 h = nt_v2(shape.half.x * ic, shape.half.y * ic);
+    /* (A position that is not finite gives a p that is not: its product with ic > 0 is
+     * not finite, and neither is its difference from the clamped corner.) */
     if (!nt__finite(p.x) || !nt__finite(p.y)) return false;
     if (h.x > (nt_real)0.5 || h.y > (nt_real)0.5) {
+        /* (In a copy: *out stays zero when it fails.) */
+        nt_resolution res;
+        memset(&res, 0, sizeof res);
         if (!resolve_big(vm, p, shape, h, &res)) return false;
         to_world(&res, vm, cell);
         *out = res;
@@ -1445,29 +1449,30 @@ bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt
     /* p more than 2 cells outside the view's map, decided on the position in cells:
      * p is its exact difference from the view's origin (to within its rounding up to
      * 1 in a cell just before 0, where neither side is near), and a view far enough
-     * for a conversion to round is on the far side either way. */
+     * for a conversion to round is on the far side either way. (gx < -2 is the view's
+     * corner, gx's floor (clamped at -1e9), below -2; far_w is (nt_real)w + 2.) */
     nt_real gx = pos.x * ic, gy = pos.y * ic;
-    if (gx < -2 || gy < -2 || gx > (nt_real)map->w + 2 || gy > (nt_real)map->h + 2) {
+    if (view.ox < -2 || view.oy < -2 || gx > map->far_w || gy > map->far_h) {
         /* Far inside the border: come back into the map first. */
-        set_escape(&res, p, escape(vm, p, shape, h));
-        to_world(&res, vm, cell);
-        *out = res;
+        set_escape(out, p, escape(vm, p, shape, h));
+        to_world(out, vm, cell);
         return true;
     }
+    /* The answer is built in *out (zero so far). */
     const probe obj = {vm, shape, h};
     gathered g;
     if (gather(&obj, p, 1u, &g) == 0) return false;
 
     nt_real lower = 0;
-    int found = best_candidate(&obj, p, &g, &res, &lower);
+    int found = best_candidate(&obj, p, &g, out, &lower);
     /* A freeing push no longer than the deepest single-tile overlap is optimal: no
      * way out of the union can be shorter than the way out of one of its tiles. */
-    nt_real len = found ? nt__len(res.push) : (nt_real)0.8;
+    nt_real len = found ? nt__len(out->push) : (nt_real)0.8;
     if (!found || len > lower * (nt_real)1.000001 + (nt_real)(1e-6)) {
         nt_resolution e;
         memset(&e, 0, sizeof e);
         if (enumerate(vm, p, shape, h, len, &e)) {
-            res = e;
+            *out = e;
             found = 1;
         }
     }
@@ -1489,13 +1494,12 @@ bool nt__map_resolve(const nt_map *map, nt_vec2 pos, const nt_shape *shape_p, nt
         nt_resolution x;
         memset(&x, 0, sizeof x);
         if (l > (nt_real)0.8 && l < (nt_real)2 && enumerate(vm, p, shape, h, l * (nt_real)1.0001 + (nt_real)(1e-6), &x)) {
-            res = x;
+            *out = x;
         } else {
-            set_escape(&res, p, d);
+            set_escape(out, p, d);
         }
     }
-    to_world(&res, vm, cell);
-    *out = res;
+    to_world(out, vm, cell);
     return true;
 }
 
