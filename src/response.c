@@ -570,6 +570,19 @@ static int skin_deep(const nt_world *w, const nt__body *b, const nt_resolution *
     return 1;
 }
 
+/* A remembered tile contact from a resolution's contact c, with normal n (glide's and
+ * store_tile_contacts': one way of storing, so that the two cannot differ). */
+static inline void set_tile_ct(const nt_world *w, nt__tile_ct *t, nt_vec2 n, const nt_tile_contact *c, int solved)
+{
+    t->n = n;
+    t->depth = c->depth;
+    t->lambda = 0;
+    t->cx = c->cell_x;
+    t->cy = c->cell_y;
+    t->material = (uint8_t)cell_material_index(w, t->cx, t->cy);
+    t->solved = (uint8_t)solved;
+}
+
 /* A body gliding along the flat surface it touched at the end of the last step (every
  * remembered contact along one normal n, not moving into it, no one-way tile in the
  * world): when at p every tile it overlaps holds it along n within the band about the
@@ -592,15 +605,8 @@ static int glide(const nt_world *w, nt__body *b, nt_vec2 p)
      * normal within 0.999 of tc[0].n (nt__map_glides' tests: the same products, in
      * the same order), so it keeps tc[0].n, and then tc[1].n when there are two (within
      * 0.999 of tc[0].n: tested above); its answered normal is the last remembered one. */
-    nt__tile_ct *t = &b->tc[0];
-    t->n = b->tc[b->ntc - 1].n;
+    set_tile_ct(w, &b->tc[0], b->tc[b->ntc - 1].n, &c, 1);
     b->ntc = 1;
-    t->depth = c.depth;
-    t->lambda = 0;
-    t->cx = c.cell_x;
-    t->cy = c.cell_y;
-    t->material = (uint8_t)cell_material_index(w, t->cx, t->cy);
-    t->solved = 1;
     return 1;
 }
 
@@ -619,16 +625,7 @@ static void store_tile_contacts(const nt_world *w, nt__body *b, const nt_resolut
             if (nt__dot(b->tc[j].n, keep[k]) > (nt_real)0.999) keep[k] = b->tc[j].n;
     }
     b->ntc = (uint8_t)res->contact_count;
-    for (int k = 0; k < res->contact_count; k++) {
-        nt__tile_ct *t = &b->tc[k];
-        t->n = keep[k];
-        t->depth = res->contacts[k].depth;
-        t->lambda = 0;
-        t->cx = res->contacts[k].cell_x;
-        t->cy = res->contacts[k].cell_y;
-        t->material = (uint8_t)cell_material_index(w, t->cx, t->cy);
-        t->solved = (uint8_t)solved;
-    }
+    for (int k = 0; k < res->contact_count; k++) set_tile_ct(w, &b->tc[k], keep[k], &res->contacts[k], solved);
 }
 
 /* The friction model for one surface the body moves into (a = v.n < 0).
